@@ -1,0 +1,17 @@
+# Project-wide warning and sanitizer flags, carried by an interface target that each
+# of our targets links privately (third-party targets stay untouched).
+add_library(annex_flags INTERFACE)
+add_library(annex::flags ALIAS annex_flags)
+target_compile_options(annex_flags INTERFACE -Wall -Wextra)
+
+if(ANNEX_SANITIZE)
+  target_compile_options(annex_flags INTERFACE
+    -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  target_link_options(annex_flags INTERFACE -fsanitize=address,undefined)
+endif()
+
+# libFuzzer exists only in clang.
+set(ANNEX_CAN_FUZZ OFF)
+if(ANNEX_FUZZ AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+  set(ANNEX_CAN_FUZZ ON)
+endif()

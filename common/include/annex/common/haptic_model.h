@@ -1,0 +1,51 @@
+#pragma once
+// The developer's haptic model (paper, "Developer Experience"): per virtual object,
+// primitives placed on its visual mesh, three levels of priority and per-dimension
+// scaling limits. This is what the editor saves and the runtime reads.
+
+#include <string>
+#include <vector>
+
+#include "annex/common/geometry.h"
+#include "annex/common/shape.h"
+
+namespace annex {
+
+// One dimension of a primitive: its size on the virtual model, its priority w_h
+// and the scale factors the developer allows when the model is fitted to a prop.
+struct Dimension {
+  double value_m = 0.1;
+  double weight = 1.0;     // w_h in [0, 1]
+  double min_scale = 0.5;  // 0 < min_scale <= max_scale
+  double max_scale = 2.0;
+  bool operator==(const Dimension&) const = default;
+};
+
+struct Primitive {
+  std::string name;
+  ShapeKind kind = ShapeKind::cylinder;
+  Pose pose;                           // relative to the virtual object's origin
+  double weight = 1.0;                 // w_s in [0, 1]
+  std::vector<Dimension> dimensions;   // dimension_count(kind) entries, in dimension_names order
+  bool operator==(const Primitive&) const = default;
+};
+
+struct VirtualObject {
+  std::string name;
+  std::string mesh;          // path of the visual mesh, relative to the spec file
+  bool annexable = true;     // false: always virtual-only, never matched
+  double priority = 1.0;     // w_o in [0, 1]
+  std::vector<Primitive> primitives;  // as authored; the Voter ranks them by w_s
+  bool operator==(const VirtualObject&) const = default;
+};
+
+// A whole .haptic file: the virtual objects of one AR scene.
+struct HapticSpec {
+  std::vector<VirtualObject> objects;
+  bool operator==(const HapticSpec&) const = default;
+};
+
+// A primitive of `kind` with default dimensions (10 cm), weights 1 and limits [0.5, 2].
+Primitive make_primitive(ShapeKind kind, std::string name);
+
+}  // namespace annex

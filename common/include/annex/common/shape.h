@@ -1,0 +1,31 @@
+#pragma once
+// The primitive shapes a haptic model is built from and a scan recognises.
+// The paper's four (sphere, cylinder, cone, torus) plus box from its future work;
+// plane and pyramid would be added here with their dimension names.
+
+#include <optional>
+#include <span>
+#include <string_view>
+
+namespace annex {
+
+enum class ShapeKind { sphere, cylinder, cone, torus, box };
+
+inline constexpr ShapeKind kAllShapes[] = {ShapeKind::sphere, ShapeKind::cylinder,
+                                           ShapeKind::cone, ShapeKind::torus,
+                                           ShapeKind::box};
+
+std::string_view shape_name(ShapeKind kind);
+std::optional<ShapeKind> shape_from_name(std::string_view name);
+
+// Named dimensions in metres, in the order files list them and votes compare them.
+// sphere: radius; cylinder: radius, height; cone: radius (of the base), height;
+// torus: major_radius, minor_radius; box: size_x, size_y, size_z.
+std::span<const std::string_view> dimension_names(ShapeKind kind);
+inline int dimension_count(ShapeKind kind) {
+  return static_cast<int>(dimension_names(kind).size());
+}
+// Index of a dimension name for this shape, or -1.
+int dimension_index(ShapeKind kind, std::string_view name);
+
+}  // namespace annex

@@ -1,0 +1,49 @@
+#include "annex/common/shape.h"
+
+#include <array>
+
+namespace annex {
+namespace {
+constexpr std::array<std::string_view, 1> kSphereDims{"radius"};
+constexpr std::array<std::string_view, 2> kCylinderDims{"radius", "height"};
+constexpr std::array<std::string_view, 2> kConeDims{"radius", "height"};
+constexpr std::array<std::string_view, 2> kTorusDims{"major_radius", "minor_radius"};
+constexpr std::array<std::string_view, 3> kBoxDims{"size_x", "size_y", "size_z"};
+}  // namespace
+
+std::string_view shape_name(ShapeKind kind) {
+  switch (kind) {
+    case ShapeKind::sphere: return "sphere";
+    case ShapeKind::cylinder: return "cylinder";
+    case ShapeKind::cone: return "cone";
+    case ShapeKind::torus: return "torus";
+    case ShapeKind::box: return "box";
+  }
+  return "unknown";
+}
+
+std::optional<ShapeKind> shape_from_name(std::string_view name) {
+  for (ShapeKind k : kAllShapes)
+    if (shape_name(k) == name) return k;
+  return std::nullopt;
+}
+
+std::span<const std::string_view> dimension_names(ShapeKind kind) {
+  switch (kind) {
+    case ShapeKind::sphere: return kSphereDims;
+    case ShapeKind::cylinder: return kCylinderDims;
+    case ShapeKind::cone: return kConeDims;
+    case ShapeKind::torus: return kTorusDims;
+    case ShapeKind::box: return kBoxDims;
+  }
+  return {};
+}
+
+int dimension_index(ShapeKind kind, std::string_view name) {
+  const auto names = dimension_names(kind);
+  for (size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<int>(i);
+  return -1;
+}
+
+}  // namespace annex

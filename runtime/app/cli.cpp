@@ -1,0 +1,77 @@
+#include "cli.h"
+
+#include <charconv>
+#include <iostream>
+
+namespace annex::cli {
+
+bool ParsedArgs::has(std::string_view name) const {
+  for (const auto& [k, v] : options)
+    if (k == name) return true;
+  return false;
+}
+
+std::optional<std::string> ParsedArgs::get(std::string_view name) const {
+  for (const auto& [k, v] : options)
+    if (k == name) return v;
+  return std::nullopt;
+}
+
+std::optional<ParsedArgs> parse_args(std::string_view command, const std::vector<std::string>& args,
+                                     const ArgSpec& spec) {
+  auto listed = [](const std::vector<std::string_view>& names, std::string_view n) {
+    for (auto x : names)
+      if (x == n) return true;
+    return false;
+  };
+  ParsedArgs out;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a.size() < 3 || a.rfind("--", 0) != 0) {
+      out.positional.push_back(a);
+      continue;
+    }
+    std::string name = a.substr(2), value;
+    const size_t eq = name.find('=');
+    const bool inline_value = eq != std::string::npos;
+    if (inline_value) {
+      value = name.substr(eq + 1);
+      name.resize(eq);
+    }
+    if (listed(spec.with_value, name)) {
+      if (!inline_value) {
+        if (i + 1 >= args.size()) {
+          std::cerr << "annex-runtime " << command << ": error: --" << name << " needs a value\n";
+          return std::nullopt;
+        }
+        value = args[++i];
+      }
+    } else if (!listed(spec.flags, name) || inline_value) {
+      std::cerr << "annex-runtime " << command << ": error: unknown option '" << a
+                << "' (see annex-runtime " << command << " --help)\n";
+      return std::nullopt;
+    }
+    out.options.emplace_back(std::move(name), std::move(value));
+  }
+  return out;
+}
+
+bool wants_help(const std::vector<std::string>& args) {
+  for (const auto& a : args)
+    if (a == "--help" || a == "-h") return true;
+  return false;
+}
+
+std::optional<long> parse_count(std::string_view command, std::string_view option,
+                                const std::string& text) {
+  long n = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
+  if (ec != std::errc() || end != text.data() + text.size() || n < 0) {
+    std::cerr << "annex-runtime " << command << ": error: --" << option
+              << " expects a whole number >= 0, got '" << text << "'\n";
+    return std::nullopt;
+  }
+  return n;
+}
+
+}  // namespace annex::cli

@@ -1,0 +1,48 @@
+#pragma once
+// The small command-line layer of annex-runtime: each subcommand is a function
+// taking its arguments and returning the process exit code.
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace annex::cli {
+
+// Exit codes scripts rely on (docs/cli.md).
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;  // the job ran and failed (no plane, sensor lost...)
+inline constexpr int kExitBadInput = 2; // bad arguments, unreadable or invalid input files
+
+struct Command {
+  std::string_view name;
+  std::string_view summary;
+  std::string_view usage;  // full --help text
+  int (*run)(const std::vector<std::string>& args);
+};
+
+// Splits arguments into positionals and --options. Options listed in `with_value`
+// take the next argument (or --opt=value); others are flags. Unknown options are errors.
+struct ParsedArgs {
+  std::vector<std::string> positional;
+  std::vector<std::pair<std::string, std::string>> options;  // name without "--", value
+  bool has(std::string_view name) const;
+  std::optional<std::string> get(std::string_view name) const;
+};
+
+struct ArgSpec {
+  std::vector<std::string_view> flags;
+  std::vector<std::string_view> with_value;
+};
+
+// Prints "annex-runtime <cmd>: error: ..." and returns nullopt on a bad argument list.
+std::optional<ParsedArgs> parse_args(std::string_view command, const std::vector<std::string>& args,
+                                     const ArgSpec& spec);
+
+bool wants_help(const std::vector<std::string>& args);
+
+// Parses a whole non-negative integer option; prints an error and returns nullopt otherwise.
+std::optional<long> parse_count(std::string_view command, std::string_view option,
+                                const std::string& text);
+
+}  // namespace annex::cli

@@ -1,0 +1,11 @@
+#pragma once
+// Every annex-runtime subcommand; main.cpp lists them in one table.
+
+#include "cli.h"
+
+namespace annex::cli {
+
+extern const Command kCheckCommand;
+extern const Command kMatchCommand;
+
+}  // namespace annex::cli

@@ -1,0 +1,33 @@
+#pragma once
+// One depth frame as every FrameGrabber delivers it: an organized XYZRGB cloud in
+// the camera frame (x right, y down, z forward, metres), invalid pixels NaN.
+// Our own type, so public headers never expose PCL.
+
+#include <cstdint>
+#include <vector>
+
+namespace annex {
+
+struct PointXYZRGB {
+  float x = 0, y = 0, z = 0;
+  std::uint8_t r = 0, g = 0, b = 0;
+};
+
+struct Frame {
+  int width = 0;   // organized: width x height pixels; unorganized: width = size, height = 1
+  int height = 0;
+  double timestamp_s = 0;  // seconds since the source started (or recorded time)
+  int index = 0;           // frame number within its source, for error messages
+  std::vector<PointXYZRGB> points;
+  bool organized() const { return height > 1; }
+};
+
+// Pinhole intrinsics of the depth camera (Kinect defaults).
+struct CameraIntrinsics {
+  int width = 640;
+  int height = 480;
+  double fx = 525.0, fy = 525.0;
+  double cx = 319.5, cy = 239.5;
+};
+
+}  // namespace annex

@@ -1,0 +1,36 @@
+#include "annex/common/shape.h"
+
+#include <gtest/gtest.h>
+
+#include "annex/common/haptic_model.h"
+
+namespace annex {
+namespace {
+
+TEST(Shape, NamesRoundTrip) {
+  for (ShapeKind k : kAllShapes) EXPECT_EQ(shape_from_name(shape_name(k)), k);
+  EXPECT_FALSE(shape_from_name("cube").has_value());
+  EXPECT_FALSE(shape_from_name("").has_value());
+}
+
+TEST(Shape, DimensionNames) {
+  EXPECT_EQ(dimension_count(ShapeKind::sphere), 1);
+  EXPECT_EQ(dimension_count(ShapeKind::cylinder), 2);
+  EXPECT_EQ(dimension_count(ShapeKind::cone), 2);
+  EXPECT_EQ(dimension_count(ShapeKind::torus), 2);
+  EXPECT_EQ(dimension_count(ShapeKind::box), 3);
+  EXPECT_EQ(dimension_index(ShapeKind::torus, "minor_radius"), 1);
+  EXPECT_EQ(dimension_index(ShapeKind::box, "size_z"), 2);
+  EXPECT_EQ(dimension_index(ShapeKind::sphere, "height"), -1);
+}
+
+TEST(HapticModel, MakePrimitiveHasOneDimensionPerName) {
+  for (ShapeKind k : kAllShapes) {
+    const Primitive p = make_primitive(k, "x");
+    EXPECT_EQ(static_cast<int>(p.dimensions.size()), dimension_count(k));
+    EXPECT_EQ(p.kind, k);
+  }
+}
+
+}  // namespace
+}  // namespace annex
