@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Reference timings of SciPy's linear_sum_assignment(maximize=True) on the same
 problems as annex-bench's BM_MaxWeightAssignment: dense matrices drawn uniformly
-from [0, 100), fixed seed. Prints the median wall time of several runs per size.
+from [0, 100), fixed seed. Prints the median wall and CPU times of several runs
+per size.
 
 Run with Debian's interpreter, which has python3-scipy:
     /usr/bin/python3 bench/scipy_assignment.py [--repetitions 9] [--sizes 100x100 2000x2000]
