@@ -15,8 +15,7 @@ namespace annex {
 namespace {
 
 Error file_error(const std::filesystem::path& path, std::string_view what, int err) {
-  return Error{std::string(what) + " '" + path.string() + "': " + std::strerror(err),
-               Location{}};
+  return Error{std::string(what) + " '" + path.string() + "': " + std::strerror(err), Location{}};
 }
 
 struct FileCloser {

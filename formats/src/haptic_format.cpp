@@ -61,8 +61,8 @@ struct OpenPrimitive {
   Primitive primitive;
   int line = 0;
   SeenKeys keys;
-  std::vector<bool> have;             // per dimension index
-  std::vector<Token> value_tokens;    // per dimension index, for located errors
+  std::vector<bool> have;           // per dimension index
+  std::vector<Token> value_tokens;  // per dimension index, for located errors
 };
 
 std::string describe(const OpenPrimitive& p) {
@@ -72,15 +72,15 @@ std::string describe(const OpenPrimitive& p) {
 Error duplicate_key(std::string_view origin, const Token& key, std::string_view block,
                     int first_line) {
   return error_at(origin, key,
-                  "duplicate key '" + key.text + "' in " + std::string(block) +
-                      " (first at line " + std::to_string(first_line) + ")");
+                  "duplicate key '" + key.text + "' in " + std::string(block) + " (first at line " +
+                      std::to_string(first_line) + ")");
 }
 
 Error unknown_key(std::string_view origin, const Token& key, std::string_view block,
                   std::span<const std::string_view> keys) {
-  return error_at(origin, key,
-                  "unknown key " + shown(key) + " " + std::string(block) +
-                      suggestion(key.text, keys));
+  return error_at(
+      origin, key,
+      "unknown key " + shown(key) + " " + std::string(block) + suggestion(key.text, keys));
 }
 
 // Parses `name value [priority w] [scale min max]` after the dimension name was taken.
@@ -128,16 +128,18 @@ Status parse_rotation(LineReader& r, std::string_view origin, Quat& q) {
   }
   const double norm = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] + c[3] * c[3]);
   if (!(std::abs(norm - 1) <= kNormTolerance))
-    return error_at(origin, r.last().line, r.last().column,
-                    "rotation must be a unit quaternion w x y z, found norm " +
-                        format_number(norm));
+    return error_at(
+        origin, r.last().line, r.last().column,
+        "rotation must be a unit quaternion w x y z, found norm " + format_number(norm));
   q = Quat{c[0], c[1], c[2], c[3]};
   if (std::abs(norm - 1) > kNormExact) q = normalized(q);
   return Ok{};
 }
 
 // Checks that a block closing with `end` has nothing after it.
-Status parse_end(LineReader& r) { return r.expect_end("end"); }
+Status parse_end(LineReader& r) {
+  return r.expect_end("end");
+}
 
 Status finish_primitive(OpenPrimitive& p, const Token& end, std::string_view origin,
                         std::vector<Diagnostic>* warnings) {
@@ -147,15 +149,15 @@ Status finish_primitive(OpenPrimitive& p, const Token& end, std::string_view ori
       return error_at(origin, end,
                       describe(p) + " is missing dimension '" + std::string(names[i]) + "'");
   if (p.primitive.kind == ShapeKind::torus)
-    if (auto msg = check_torus(p.primitive.dimensions[0].value_m,
-                               p.primitive.dimensions[1].value_m))
+    if (auto msg =
+            check_torus(p.primitive.dimensions[0].value_m, p.primitive.dimensions[1].value_m))
       return error_at(origin, p.value_tokens[1], *msg);
   bool all_zero = true;
   for (const Dimension& d : p.primitive.dimensions) all_zero = all_zero && d.weight == 0;
   if (all_zero && warnings)
-    warnings->push_back(Diagnostic{
-        "all dimension priorities of " + describe(p) + " are 0: only the shape counts",
-        Location{std::string(origin), p.line, 1}});
+    warnings->push_back(
+        Diagnostic{"all dimension priorities of " + describe(p) + " are 0: only the shape counts",
+                   Location{std::string(origin), p.line, 1}});
   return Ok{};
 }
 
@@ -211,9 +213,9 @@ Result<HapticSpec> parse_haptic(std::string_view text, std::string_view origin,
                         "missing 'end' for " + describe(p) + " (opened at line " +
                             std::to_string(p.line) + ") before '" + key.text + "'");
       const int dim = key.quoted ? -1 : dimension_index(p.primitive.kind, key.text);
-      const bool known = dim >= 0 || (!key.quoted && (key.text == "priority" ||
-                                                      key.text == "position" ||
-                                                      key.text == "rotation"));
+      const bool known =
+          dim >= 0 || (!key.quoted && (key.text == "priority" || key.text == "position" ||
+                                       key.text == "rotation"));
       if (!known) {
         std::vector<std::string_view> keys(std::begin(kPrimitiveKeys), std::end(kPrimitiveKeys));
         const auto names = dimension_names(p.primitive.kind);
@@ -244,8 +246,7 @@ Result<HapticSpec> parse_haptic(std::string_view text, std::string_view origin,
         }
         p.primitive.pose.position = Vec3{c[0], c[1], c[2]};
       } else {
-        if (auto st = parse_rotation(r, origin, p.primitive.pose.rotation); !st)
-          return st.error();
+        if (auto st = parse_rotation(r, origin, p.primitive.pose.rotation); !st) return st.error();
       }
       if (auto st = r.expect_end(key.text); !st) return st.error();
       continue;
@@ -274,21 +275,20 @@ Result<HapticSpec> parse_haptic(std::string_view text, std::string_view origin,
         if (!name) return name.error();
         const Token name_tok = r.last();
         if (r.at_end())
-          return r.missing("expected a shape after 'primitive " + *name + "' (one of: " +
-                           shape_list() + ")");
+          return r.missing("expected a shape after 'primitive " + *name +
+                           "' (one of: " + shape_list() + ")");
         const Token& shape_tok = r.take();
         const auto kind = shape_tok.quoted ? std::nullopt : shape_from_name(shape_tok.text);
         if (!kind)
-          return error_at(origin, shape_tok,
-                          "unknown shape " + shown(shape_tok) +
-                              suggestion(shape_tok.text, kShapeNames));
+          return error_at(
+              origin, shape_tok,
+              "unknown shape " + shown(shape_tok) + suggestion(shape_tok.text, kShapeNames));
         if (auto st = r.expect_end("primitive " + *name + " " + shape_tok.text); !st)
           return st.error();
         if (auto it = o.primitive_lines.find(*name); it != o.primitive_lines.end())
           return error_at(origin, name_tok,
-                          "duplicate primitive name '" + *name + "' in object '" +
-                              o.object.name + "' (first at line " + std::to_string(it->second) +
-                              ")");
+                          "duplicate primitive name '" + *name + "' in object '" + o.object.name +
+                              "' (first at line " + std::to_string(it->second) + ")");
         if (o.object.primitives.size() >= kMaxPrimitivesPerObject)
           return error_at(origin, key,
                           "object '" + o.object.name + "' has more than " +
@@ -310,7 +310,8 @@ Result<HapticSpec> parse_haptic(std::string_view text, std::string_view origin,
       if (key.text == "mesh") {
         if (r.at_end()) return r.missing("expected a path after 'mesh'");
         const Token& path = r.take();
-        if (path.text.empty()) return error_at(origin, path, "expected a non-empty path after 'mesh'");
+        if (path.text.empty())
+          return error_at(origin, path, "expected a non-empty path after 'mesh'");
         o.object.mesh = path.text;
       } else if (key.text == "annexable") {
         if (r.at_end()) return r.missing("expected 'yes' or 'no' after 'annexable'");
@@ -353,8 +354,7 @@ Result<HapticSpec> parse_haptic(std::string_view text, std::string_view origin,
   }
 
   const Location eof = lexer.end_location();
-  if (!have_header)
-    return Error{"empty input; expected the header 'annex-haptic 1'", eof};
+  if (!have_header) return Error{"empty input; expected the header 'annex-haptic 1'", eof};
   if (prim)
     return Error{"missing 'end' for " + describe(*prim) + " (opened at line " +
                      std::to_string(prim->line) + ") at the end of the input",
@@ -377,7 +377,8 @@ Status validate_haptic(const HapticSpec& spec, std::string_view origin) {
   for (std::size_t oi = 0; oi < spec.objects.size(); ++oi) {
     const VirtualObject& o = spec.objects[oi];
     const std::string where = base + ": object " + in_quotes(o.name);
-    if (!is_identifier(o.name)) return fail(where, invalid_name_message("object name", in_quotes(o.name)));
+    if (!is_identifier(o.name))
+      return fail(where, invalid_name_message("object name", in_quotes(o.name)));
     if (!object_index.emplace(o.name, oi).second)
       return fail(where, "duplicate object name '" + o.name + "'");
     if (has_control_char(o.mesh)) return fail(where, "mesh path contains a control character");
@@ -395,8 +396,7 @@ Status validate_haptic(const HapticSpec& spec, std::string_view origin) {
       if (!is_identifier(p.name))
         return fail(pwhere, invalid_name_message("primitive name", in_quotes(p.name)));
       if (!primitive_index.emplace(p.name, pi).second)
-        return fail(pwhere,
-                    "duplicate primitive name '" + p.name + "' in object '" + o.name + "'");
+        return fail(pwhere, "duplicate primitive name '" + p.name + "' in object '" + o.name + "'");
       if (!shape_from_name(shape_name(p.kind)))
         return fail(pwhere, "unknown shape; expected one of: " + shape_list());
       const std::string desc = std::string(shape_name(p.kind)) + " '" + p.name + "'";
@@ -416,8 +416,8 @@ Status validate_haptic(const HapticSpec& spec, std::string_view origin) {
         if (auto msg = check_finite(v, "rotation")) return fail(pwhere, *msg);
       const double qn = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
       if (!(std::abs(qn - 1) <= kNormTolerance))
-        return fail(pwhere, "rotation must be a unit quaternion w x y z, found norm " +
-                                format_number(qn));
+        return fail(pwhere,
+                    "rotation must be a unit quaternion w x y z, found norm " + format_number(qn));
       for (std::size_t di = 0; di < names.size(); ++di) {
         const Dimension& d = p.dimensions[di];
         const std::string dname(names[di]);

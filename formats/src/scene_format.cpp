@@ -1,5 +1,6 @@
 #include "annex/formats/scene_format.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <optional>
@@ -35,10 +36,12 @@ Result<Vec3> read_direction(LineReader& r, std::string_view origin, std::string_
   auto v = read_vec3(r, key);
   if (!v) return v;
   const double n = norm(*v);
-  if (!(n > 0) || !std::isfinite(n))
-    return error_at(origin, r.last(), std::string(key) + " must be a non-zero vector");
-  if (std::abs(n - 1) > kNormExact) return normalized(*v);
-  return v;
+  if (std::abs(n - 1) <= kNormExact) return v;
+  // Divide by the largest component first so tiny and huge vectors neither underflow
+  // nor overflow: the result is unit to rounding and is kept as is when read back.
+  const double m = std::max({std::abs(v->x), std::abs(v->y), std::abs(v->z)});
+  if (!(m > 0)) return error_at(origin, r.last(), std::string(key) + " must be a non-zero vector");
+  return normalized(Vec3{v->x / m, v->y / m, v->z / m});
 }
 
 struct OpenObject {
@@ -58,16 +61,17 @@ Result<PhysicalPrimitive> parse_primitive(LineReader& r, std::string_view origin
   std::vector<std::string_view> keys(names.begin(), names.end());
   keys.insert(keys.end(), std::begin(kPrimitiveKeys), std::end(kPrimitiveKeys));
   std::map<std::string, int, std::less<>> seen;
-  const std::string block = "in " + std::string(shape_name(kind)) + " at column " +
-                            std::to_string(shape_tok.column);
+  const std::string block =
+      "in " + std::string(shape_name(kind)) + " at column " + std::to_string(shape_tok.column);
   while (!r.at_end()) {
     const Token& key = r.take();
     const int dim = key.quoted ? -1 : dimension_index(kind, key.text);
     const bool known =
-        dim >= 0 || (!key.quoted && (key.text == "center" || key.text == "axis" || key.text == "fit"));
+        dim >= 0 ||
+        (!key.quoted && (key.text == "center" || key.text == "axis" || key.text == "fit"));
     if (!known)
-      return error_at(origin, key, "unknown key " + shown(key) + " " + block +
-                                       suggestion(key.text, keys));
+      return error_at(origin, key,
+                      "unknown key " + shown(key) + " " + block + suggestion(key.text, keys));
     if (auto it = seen.find(key.text); it != seen.end())
       return error_at(origin, key,
                       "duplicate key '" + key.text + "' " + block + " (first at column " +
@@ -94,9 +98,9 @@ Result<PhysicalPrimitive> parse_primitive(LineReader& r, std::string_view origin
   }
   for (std::size_t i = 0; i < names.size(); ++i)
     if (!seen.contains(std::string(names[i])))
-      return error_at(origin, shape_tok,
-                      std::string(shape_name(kind)) + " is missing dimension '" +
-                          std::string(names[i]) + "'");
+      return error_at(
+          origin, shape_tok,
+          std::string(shape_name(kind)) + " is missing dimension '" + std::string(names[i]) + "'");
   if (kind == ShapeKind::torus)
     if (auto msg = check_torus(p.dimensions_m[0], p.dimensions_m[1]))
       return error_at(origin, value_tokens[1], *msg);
@@ -149,8 +153,9 @@ Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin
       OpenObject& o = *obj;
       const std::string block = "in object '" + o.object.id + "'";
       if (key.quoted)
-        return error_at(origin, key,
-                        "unknown key " + shown(key) + " " + block + suggestion(key.text, kObjectKeys));
+        return error_at(
+            origin, key,
+            "unknown key " + shown(key) + " " + block + suggestion(key.text, kObjectKeys));
       if (key.text == "end") {
         if (auto st = r.expect_end("end"); !st) return st.error();
         scene.objects.push_back(std::move(o.object));
@@ -172,8 +177,9 @@ Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin
         continue;
       }
       if (key.text != "points" && key.text != "fit")
-        return error_at(origin, key,
-                        "unknown key " + shown(key) + " " + block + suggestion(key.text, kObjectKeys));
+        return error_at(
+            origin, key,
+            "unknown key " + shown(key) + " " + block + suggestion(key.text, kObjectKeys));
       if (auto it = o.keys.find(key.text); it != o.keys.end())
         return error_at(origin, key,
                         "duplicate key '" + key.text + "' in object '" + o.object.id +
@@ -199,9 +205,9 @@ Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin
       const Token id_tok = r.last();
       if (auto st = r.expect_end("object " + *id); !st) return st.error();
       if (auto it = object_lines.find(*id); it != object_lines.end())
-        return error_at(origin, id_tok,
-                        "duplicate object id '" + *id + "' (first at line " +
-                            std::to_string(it->second) + ")");
+        return error_at(
+            origin, id_tok,
+            "duplicate object id '" + *id + "' (first at line " + std::to_string(it->second) + ")");
       if (scene.objects.size() >= kMaxObjects)
         return error_at(origin, key,
                         "more than " + std::to_string(kMaxObjects) + " objects in one file");
@@ -241,6 +247,60 @@ Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin
   return scene;
 }
 
+Status validate_scene(const PhysicalScene& scene, std::string_view origin) {
+  const std::string base(origin);
+  const auto fail = [](std::string where, std::string message) {
+    return Error{std::move(message), Location{std::move(where), 0, 0}};
+  };
+  const auto direction_ok = [](const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) &&
+           (v.x != 0 || v.y != 0 || v.z != 0);
+  };
+  if (scene.support) {
+    if (!direction_ok(scene.support->normal))
+      return fail(base, "support must be a non-zero vector");
+    if (auto msg = check_finite(scene.support->d, "support")) return fail(base, *msg);
+  }
+  if (scene.objects.size() > kMaxObjects)
+    return fail(base, "more than " + std::to_string(kMaxObjects) + " objects in one file");
+  std::map<std::string_view, std::size_t> ids;
+  for (std::size_t oi = 0; oi < scene.objects.size(); ++oi) {
+    const PhysicalObject& o = scene.objects[oi];
+    std::string where = base + ": object '";
+    where += o.id;
+    where += '\'';
+    if (!is_identifier(o.id))
+      return fail(where, invalid_name_message("object id", "'" + o.id + "'"));
+    if (!ids.emplace(o.id, oi).second) return fail(where, "duplicate object id '" + o.id + "'");
+    if (o.point_count < 0)
+      return fail(where, "points must be 0 or more, found " + std::to_string(o.point_count));
+    if (auto msg = check_unit_interval(o.fit, "fit")) return fail(where, *msg);
+    if (o.primitives.size() > kMaxPrimitivesPerObject)
+      return fail(where, "object '" + o.id + "' has more than " +
+                             std::to_string(kMaxPrimitivesPerObject) + " primitives");
+    for (const PhysicalPrimitive& p : o.primitives) {
+      if (!shape_from_name(shape_name(p.kind))) return fail(where, "unknown shape");
+      const std::string shape(shape_name(p.kind));
+      const auto names = dimension_names(p.kind);
+      if (p.dimensions_m.size() < names.size())
+        return fail(where, shape + " is missing dimension '" +
+                               std::string(names[p.dimensions_m.size()]) + "'");
+      if (p.dimensions_m.size() > names.size())
+        return fail(where, shape + " has " + std::to_string(p.dimensions_m.size()) +
+                               " dimensions; a " + shape + " has " + std::to_string(names.size()));
+      for (std::size_t i = 0; i < names.size(); ++i)
+        if (auto msg = check_positive(p.dimensions_m[i], names[i])) return fail(where, *msg);
+      if (p.kind == ShapeKind::torus)
+        if (auto msg = check_torus(p.dimensions_m[0], p.dimensions_m[1])) return fail(where, *msg);
+      for (double v : {p.center.x, p.center.y, p.center.z})
+        if (auto msg = check_finite(v, "center")) return fail(where, *msg);
+      if (!direction_ok(p.axis)) return fail(where, "axis must be a non-zero vector");
+      if (auto msg = check_unit_interval(p.fit, "fit")) return fail(where, *msg);
+    }
+  }
+  return Ok{};
+}
+
 std::string write_scene(const PhysicalScene& scene) {
   std::string out = std::string(kHeader) + " " + std::to_string(kVersion) + "\n";
   if (scene.support) {
@@ -255,8 +315,7 @@ std::string write_scene(const PhysicalScene& scene) {
     for (const PhysicalPrimitive& p : o.primitives) {
       out += "  " + std::string(shape_name(p.kind));
       const auto names = dimension_names(p.kind);
-      for (std::size_t i = 0; i < names.size() && i < p.dimensions_m.size(); ++i)
-        {
+      for (std::size_t i = 0; i < names.size() && i < p.dimensions_m.size(); ++i) {
         out += ' ';
         out += names[i];
         out += ' ';
@@ -281,6 +340,8 @@ Result<PhysicalScene> read_scene_file(const std::filesystem::path& path,
 }
 
 Status write_scene_file(const std::filesystem::path& path, const PhysicalScene& scene) {
+  // Refuse to write what could not be read back.
+  if (auto st = validate_scene(scene, path.string()); !st) return st;
   return write_file_atomically(path, write_scene(scene));
 }
 

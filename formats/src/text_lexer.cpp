@@ -9,7 +9,9 @@
 namespace annex::detail {
 namespace {
 
-bool is_space(char c) { return c == ' ' || c == '\t'; }
+bool is_space(char c) {
+  return c == ' ' || c == '\t';
+}
 
 bool is_control(char c) {
   const auto u = static_cast<unsigned char>(c);
@@ -34,7 +36,16 @@ Error error_at(std::string_view origin, const Token& token, std::string message)
 
 std::string shown(const Token& token) {
   std::string out(1, '\'');
-  out += token.quoted ? quote_if_needed(token.text) : token.text;
+  if (token.quoted) {
+    out += '"';
+    for (char c : token.text) {
+      if (c == '"' || c == '\\') out += '\\';
+      out += c;
+    }
+    out += '"';
+  } else {
+    out += token.text;
+  }
   out += '\'';
   return out;
 }
@@ -114,8 +125,7 @@ Result<bool> Lexer::next(Line& out) {
           tok.text += d;
           ++j;
         }
-        if (!closed)
-          return error_at(origin_, tok, "unterminated string; expected a closing '\"'");
+        if (!closed) return error_at(origin_, tok, "unterminated string; expected a closing '\"'");
         if (j < s.size() && !is_space(s[j]) && s[j] != '#')
           return error_at(origin_, line_, static_cast<int>(j) + 1 + col0,
                           "expected a space after the closing '\"'");
@@ -143,7 +153,9 @@ Result<bool> Lexer::next(Line& out) {
 
 bool is_identifier(std::string_view s) {
   if (s.empty()) return false;
-  const auto alpha = [](char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || c == '_'; };
+  const auto alpha = [](char c) {
+    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || c == '_';
+  };
   if (!alpha(s[0])) return false;
   return std::all_of(s.begin() + 1, s.end(), [&](char c) {
     return alpha(c) || (c >= '0' && c <= '9') || c == '.' || c == '-';
@@ -205,9 +217,9 @@ Result<double> LineReader::number(std::string_view after) {
     return error_at(origin_, t,
                     "number " + shown(t) + " after '" + std::string(after) + "' is out of range");
   if (!std::isfinite(v))
-    return error_at(origin_, t,
-                    "expected a finite number after '" + std::string(after) + "', found " +
-                        shown(t));
+    return error_at(
+        origin_, t,
+        "expected a finite number after '" + std::string(after) + "', found " + shown(t));
   return v + 0.0;  // -0 becomes 0, so the writer's "0" reads back identically
 }
 
@@ -233,9 +245,9 @@ Result<int> LineReader::non_negative_int(std::string_view after) {
   const char* last = first + t.text.size();
   const auto [ptr, ec] = std::from_chars(first, last, v);
   if (t.quoted || ptr != last || (ec != std::errc{} && ec != std::errc::result_out_of_range))
-    return error_at(origin_, t,
-                    "expected a whole number after '" + std::string(after) + "', found " +
-                        shown(t));
+    return error_at(
+        origin_, t,
+        "expected a whole number after '" + std::string(after) + "', found " + shown(t));
   if (ec == std::errc::result_out_of_range)
     return error_at(origin_, t,
                     "number " + shown(t) + " after '" + std::string(after) + "' is out of range");
@@ -248,7 +260,8 @@ Result<std::string> LineReader::identifier(std::string_view what, std::string_vi
   if (at_end())
     return missing("expected " + std::string(what) + " after '" + std::string(after) + "'");
   const Token& t = take();
-  if (t.quoted || !is_identifier(t.text)) return error_at(origin_, t, invalid_name_message(what, shown(t)));
+  if (t.quoted || !is_identifier(t.text))
+    return error_at(origin_, t, invalid_name_message(what, shown(t)));
   return t.text;
 }
 
@@ -267,7 +280,9 @@ std::string format_number(double v) {
   return std::string(buf, res.ptr);
 }
 
-bool has_control_char(std::string_view s) { return std::any_of(s.begin(), s.end(), is_control); }
+bool has_control_char(std::string_view s) {
+  return std::any_of(s.begin(), s.end(), is_control);
+}
 
 std::string quote_if_needed(std::string_view s) {
   const bool needs = s.empty() || std::any_of(s.begin(), s.end(), [](char c) {

@@ -22,7 +22,7 @@ inline constexpr std::size_t kMaxPrimitivesPerObject = 64;
 struct Token {
   std::string text;  // unescaped for quoted tokens
   int line = 0;
-  int column = 0;    // 1-based byte column of the token's first character
+  int column = 0;  // 1-based byte column of the token's first character
   bool quoted = false;
 };
 

@@ -19,13 +19,17 @@ namespace annex {
 Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin,
                                   std::vector<Diagnostic>* warnings = nullptr);
 
+/// Checks a scene built in memory (the scanner's) with the reader's rules and words;
+/// the location names the object instead of a line, e.g. "<origin>: object 'p1'".
+Status validate_scene(const PhysicalScene& scene, std::string_view origin = "<scene>");
+
 /// Canonical text; parse_scene(write_scene(s)) == s.
 std::string write_scene(const PhysicalScene& scene);
 
 Result<PhysicalScene> read_scene_file(const std::filesystem::path& path,
                                       std::vector<Diagnostic>* warnings = nullptr);
 
-/// Atomic, like write_haptic_file.
+/// Atomic, like write_haptic_file; refuses a scene that fails validate_scene.
 Status write_scene_file(const std::filesystem::path& path, const PhysicalScene& scene);
 
 }  // namespace annex

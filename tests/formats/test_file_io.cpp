@@ -1,0 +1,138 @@
+#include "annex/formats/file_io.h"
+
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "annex/formats/haptic_format.h"
+#include "annex/formats/scene_format.h"
+#include "format_test_util.h"
+
+namespace annex {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh directory per test under the system temp dir, removed afterwards.
+class FileIo : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("annex-formats-" + std::to_string(::getpid()) + "-" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  int entries() const {
+    return static_cast<int>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
+  }
+  fs::path dir_;
+};
+
+TEST_F(FileIo, MissingFileNamesThePath) {
+  const fs::path p = dir_ / "nope.haptic";
+  auto r = read_text_file(p);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message, "cannot open '" + p.string() + "': No such file or directory");
+  auto h = read_haptic_file(p);
+  ASSERT_FALSE(h.ok());
+  EXPECT_EQ(h.error().format(),
+            "error: cannot open '" + p.string() + "': No such file or directory");
+}
+
+TEST_F(FileIo, DirectoryIsRefused) {
+  auto r = read_text_file(dir_);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message, "cannot read '" + dir_.string() + "': Is a directory");
+}
+
+TEST_F(FileIo, SizeLimitIsCheckedBeforeReading) {
+  const fs::path p = dir_ / "big.txt";
+  std::ofstream(p) << std::string(100, 'x');
+  auto r = read_text_file(p, 99);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message,
+            "'" + p.string() + "' is 100 bytes, more than the limit of 99 bytes");
+  auto ok = read_text_file(p, 100);
+  ASSERT_TRUE(ok.ok());
+  EXPECT_EQ(ok->size(), 100u);
+}
+
+TEST_F(FileIo, AtomicWriteReplacesContentAndLeavesNoTemporary) {
+  const fs::path p = dir_ / "a.txt";
+  ASSERT_TRUE(write_file_atomically(p, "first\n").ok());
+  EXPECT_EQ(test::slurp(p), "first\n");
+  ::chmod(p.c_str(), 0640);
+  ASSERT_TRUE(write_file_atomically(p, "second\n").ok());
+  EXPECT_EQ(test::slurp(p), "second\n");
+  EXPECT_EQ(entries(), 1);
+  EXPECT_EQ(fs::status(p).permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+}
+
+TEST_F(FileIo, AtomicWriteFailureKeepsNothingBehind) {
+  const fs::path p = dir_ / "missing-dir" / "a.txt";
+  auto st = write_file_atomically(p, "x");
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.error().message.find("cannot create"), std::string::npos) << st.error().message;
+  EXPECT_NE(st.error().message.find("No such file or directory"), std::string::npos);
+  EXPECT_EQ(entries(), 0);
+
+  // Renaming over a directory fails after the temporary was written: it must go away.
+  const fs::path target = dir_ / "taken";
+  fs::create_directories(target / "child");
+  st = write_file_atomically(target, "x");
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.error().message.find("cannot rename"), std::string::npos) << st.error().message;
+  EXPECT_EQ(entries(), 1);
+}
+
+TEST_F(FileIo, HapticAndSceneFilesRoundTrip) {
+  auto spec = read_haptic_file(test::data_path("champagne.haptic"));
+  ASSERT_TRUE(spec.ok()) << spec.error().format();
+  const fs::path hp = dir_ / "out.haptic";
+  ASSERT_TRUE(write_haptic_file(hp, *spec).ok());
+  EXPECT_EQ(test::slurp(hp), test::slurp(test::data_path("champagne.haptic")));
+
+  auto scene = read_scene_file(test::data_path("kitchen.scene"));
+  ASSERT_TRUE(scene.ok()) << scene.error().format();
+  const fs::path sp = dir_ / "out.scene";
+  ASSERT_TRUE(write_scene_file(sp, *scene).ok());
+  EXPECT_EQ(test::slurp(sp), test::slurp(test::data_path("kitchen.scene")));
+}
+
+TEST_F(FileIo, WriteHapticFileRefusesAnInvalidSpec) {
+  HapticSpec spec;
+  VirtualObject o;
+  o.name = "x";
+  spec.objects.push_back(o);
+  const fs::path p = dir_ / "bad.haptic";
+  auto st = write_haptic_file(p, spec);
+  ASSERT_FALSE(st.ok());
+  EXPECT_EQ(st.error().format(), p.string() +
+                                     ": object 'x': error: annexable object 'x' has no "
+                                     "primitive; add one or set 'annexable no'");
+  EXPECT_FALSE(fs::exists(p));
+}
+
+TEST_F(FileIo, ParseErrorsNameTheFile) {
+  const fs::path p = dir_ / "e.haptic";
+  std::ofstream(p) << "annex-haptic 1\nobject a\n  colour red\n";
+  auto r = read_haptic_file(p);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().location, (Location{p.string(), 3, 3}));
+}
+
+TEST(Diagnostic, FormatsAsAWarning) {
+  EXPECT_EQ((Diagnostic{"careful", Location{"a.haptic", 3, 7}}).format(),
+            "a.haptic:3:7: warning: careful");
+  EXPECT_EQ((Diagnostic{"careful", Location{"a.haptic", 0, 0}}).format(),
+            "a.haptic: warning: careful");
+}
+
+}  // namespace
+}  // namespace annex

@@ -1,0 +1,216 @@
+#include "annex/formats/scene_format.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "format_test_util.h"
+
+namespace annex {
+namespace {
+
+TEST(SceneFormat, KitchenGoldenReadsAndWritesBackByteForByte) {
+  const std::string text = test::slurp(test::data_path("kitchen.scene"));
+  auto scene = parse_scene(text, "kitchen.scene");
+  ASSERT_TRUE(scene.ok()) << scene.error().format();
+  ASSERT_TRUE(scene->support.has_value());
+  EXPECT_EQ(scene->support->normal, (Vec3{0, -1, 0}));
+  EXPECT_EQ(scene->support->d, 0.8);
+  ASSERT_EQ(scene->objects.size(), 4u);
+  const PhysicalObject& p1 = scene->objects[0];
+  EXPECT_EQ(p1.id, "p1");
+  EXPECT_EQ(p1.point_count, 1200);
+  EXPECT_EQ(p1.fit, 0.93);
+  ASSERT_EQ(p1.primitives.size(), 2u);
+  EXPECT_EQ(p1.primitives[0].kind, ShapeKind::cylinder);
+  EXPECT_EQ(p1.primitives[0].dimensions_m, (std::vector<double>{0.04, 0.2}));
+  EXPECT_EQ(p1.primitives[0].center, (Vec3{0, 0, 0.8}));
+  EXPECT_EQ(p1.primitives[1].kind, ShapeKind::cone);
+  EXPECT_TRUE(scene->objects[3].primitives.empty());
+  EXPECT_EQ(write_scene(*scene), text);
+}
+
+TEST(SceneFormat, NoSupportGolden) {
+  const std::string text = test::slurp(test::data_path("no_support.scene"));
+  auto scene = parse_scene(text, "no_support.scene");
+  ASSERT_TRUE(scene.ok()) << scene.error().format();
+  EXPECT_FALSE(scene->support.has_value());
+  EXPECT_EQ(write_scene(*scene), text);
+}
+
+TEST(SceneFormat, DefaultsAndAnyKeyOrder) {
+  auto scene =
+      parse_scene("annex-scene 1\nobject a\n  box size_z 3 fit 0.5 size_y 2 size_x 1\nend\n", "x");
+  ASSERT_TRUE(scene.ok()) << scene.error().format();
+  const PhysicalObject& o = scene->objects[0];
+  EXPECT_EQ(o.point_count, 0);
+  EXPECT_EQ(o.fit, 0.0);
+  const PhysicalPrimitive& p = o.primitives[0];
+  EXPECT_EQ(p.dimensions_m, (std::vector<double>{1, 2, 3}));
+  EXPECT_EQ(p.center, (Vec3{0, 0, 0}));
+  EXPECT_EQ(p.axis, (Vec3{0, 0, 1}));
+  EXPECT_EQ(p.fit, 0.5);
+}
+
+TEST(SceneFormat, NormalisesAxesAndSupportNormal) {
+  auto scene = parse_scene(
+      "annex-scene 1\nsupport 0 -2 0 1\nobject a\n  sphere radius 1 axis 0 3 4\nend\n", "x");
+  ASSERT_TRUE(scene.ok()) << scene.error().format();
+  EXPECT_EQ(scene->support->normal, (Vec3{0, -1, 0}));
+  const Vec3 a = scene->objects[0].primitives[0].axis;
+  EXPECT_NEAR(a.y, 0.6, 1e-15);
+  EXPECT_NEAR(a.z, 0.8, 1e-15);
+}
+
+// Squaring these would underflow or overflow; they still normalise and round-trip.
+TEST(SceneFormat, TinyAndHugeAxesNormalise) {
+  auto scene = parse_scene(
+      "annex-scene 1\nobject a\n  sphere radius 1 axis 1e-200 0 -1e-200\n"
+      "  sphere radius 1 axis 1e300 0 1e300\n  sphere radius 1 axis 0 5e-324 0\nend\n",
+      "x");
+  ASSERT_TRUE(scene.ok()) << scene.error().format();
+  const auto& p = scene->objects[0].primitives;
+  EXPECT_NEAR(p[0].axis.x, std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(p[0].axis.z, -std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(p[1].axis.z, std::sqrt(0.5), 1e-15);
+  EXPECT_EQ(p[2].axis, (Vec3{0, 1, 0}));
+  EXPECT_EQ(*parse_scene(write_scene(*scene), "y"), *scene);
+}
+
+struct BadInput {
+  const char* name;
+  std::string text;
+  int line;
+  int column;
+  std::string message;
+};
+
+std::string obj(const std::string& body) {
+  return "annex-scene 1\nobject a\n" + body + "end\n";
+}
+
+TEST(SceneFormat, InvalidInputsReportMessageLineAndColumn) {
+  const std::vector<BadInput> cases = {
+      {"empty", "", 1, 1, "empty input; expected the header 'annex-scene 1'"},
+      {"haptic header", "annex-haptic 1\n", 1, 1,
+       "expected the header 'annex-scene 1', found 'annex-haptic' (this is a .haptic file)"},
+      {"future version", "annex-scene 3\n", 1, 13,
+       "unsupported format version 3; this reader knows version 1"},
+      {"unknown top key", "annex-scene 1\nsuport 0 1 0 0\n", 2, 1,
+       "unknown key 'suport' at top level; did you mean 'support'?"},
+      {"support zero normal", "annex-scene 1\nsupport 0 0 0 1\n", 2, 13,
+       "support must be a non-zero vector"},
+      {"support missing d", "annex-scene 1\nsupport 0 1 0\n", 2, 14,
+       "expected a number after 'support'"},
+      {"support twice", "annex-scene 1\nsupport 0 1 0 0\nsupport 0 1 0 0\n", 3, 1,
+       "duplicate key 'support' at top level (first at line 2)"},
+      {"support in object", obj("  support 0 1 0 0\n"), 3, 3,
+       "missing 'end' for object 'a' (opened at line 2) before 'support'"},
+      {"stray end", "annex-scene 1\nend\n", 2, 1, "stray 'end' at top level; no object is open"},
+      {"duplicate id", obj("") + "object a\nend\n", 4, 8,
+       "duplicate object id 'a' (first at line 2)"},
+      {"bad id", "annex-scene 1\nobject -a\n", 2, 8,
+       "invalid object id '-a'; a name starts with a letter or '_' and continues with letters, "
+       "digits, '_', '.' or '-'"},
+      {"missing end", "annex-scene 1\nobject a\n", 3, 1,
+       "missing 'end' for object 'a' (opened at line 2) at the end of the input"},
+      {"negative points", obj("  points -1\n"), 3, 10, "points must be 0 or more, found -1"},
+      {"fractional points", obj("  points 1.5\n"), 3, 10,
+       "expected a whole number after 'points', found '1.5'"},
+      {"huge points", obj("  points 99999999999\n"), 3, 10,
+       "number '99999999999' after 'points' is out of range"},
+      {"fit range", obj("  fit 1.01\n"), 3, 7, "fit must be in [0, 1], found 1.01"},
+      {"duplicate fit", obj("  fit 1\n  fit 1\n"), 4, 3,
+       "duplicate key 'fit' in object 'a' (first at line 3)"},
+      {"unknown object key", obj("  cylindre radius 1 height 1\n"), 3, 3,
+       "unknown key 'cylindre' in object 'a'; did you mean 'cylinder'?"},
+      {"unknown primitive key", obj("  cylinder raduis 1 height 1\n"), 3, 12,
+       "unknown key 'raduis' in cylinder at column 3; did you mean 'radius'?"},
+      {"duplicate primitive key", obj("  sphere radius 1 radius 2\n"), 3, 19,
+       "duplicate key 'radius' in sphere at column 3 (first at column 10)"},
+      {"missing dimension", obj("  cylinder radius 1 center 0 0 0\n"), 3, 3,
+       "cylinder is missing dimension 'height'"},
+      {"zero dimension", obj("  sphere radius 0\n"), 3, 17, "radius must be positive, found 0"},
+      {"zero axis", obj("  sphere radius 1 axis 0 0 0\n"), 3, 28, "axis must be a non-zero vector"},
+      {"short center", obj("  sphere radius 1 center 0 0\n"), 3, 29,
+       "expected a number after 'center'"},
+      {"primitive fit range", obj("  sphere radius 1 fit -1\n"), 3, 23,
+       "fit must be in [0, 1], found -1"},
+      {"non-finite", obj("  sphere radius inf\n"), 3, 17,
+       "expected a finite number after 'radius', found 'inf'"},
+      {"torus", obj("  torus major_radius 1 minor_radius 2\n"), 3, 37,
+       "torus minor_radius 2 must be smaller than major_radius 1"},
+  };
+  for (const BadInput& c : cases) {
+    SCOPED_TRACE(c.name);
+    auto r = parse_scene(c.text, "bad.scene");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, c.message);
+    EXPECT_EQ(r.error().location.line, c.line);
+    EXPECT_EQ(r.error().location.column, c.column);
+  }
+}
+
+TEST(SceneFormat, CapsPrimitivesPerObject) {
+  std::string text = "annex-scene 1\nobject a\n";
+  for (int i = 0; i <= 64; ++i) text += "sphere radius 1\n";
+  auto r = parse_scene(text + "end\n", "x");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message, "object 'a' has more than 64 primitives");
+  EXPECT_EQ(r.error().location.line, 3 + 64);
+}
+
+TEST(SceneFormat, ValidateUsesTheReaderWords) {
+  auto scene = parse_scene(test::slurp(test::data_path("kitchen.scene")), "k");
+  ASSERT_TRUE(scene.ok());
+  EXPECT_TRUE(validate_scene(*scene).ok());
+  const auto expect = [](const PhysicalScene& s, const std::string& origin,
+                         const std::string& msg) {
+    auto st = validate_scene(s, "scan");
+    ASSERT_FALSE(st.ok());
+    EXPECT_EQ(st.error().location, (Location{origin, 0, 0}));
+    EXPECT_EQ(st.error().message, msg);
+  };
+  PhysicalScene s = *scene;
+  s.objects[0].primitives[0].dimensions_m[1] = -1;
+  expect(s, "scan: object 'p1'", "height must be positive, found -1");
+  s = *scene;
+  s.objects[2].primitives[0].dimensions_m[1] = 1;
+  expect(s, "scan: object 'p3'", "torus minor_radius 1 must be smaller than major_radius 0.05");
+  s = *scene;
+  s.objects[0].primitives[1].axis = Vec3{0, 0, 0};
+  expect(s, "scan: object 'p1'", "axis must be a non-zero vector");
+  s = *scene;
+  s.objects[0].primitives[1].dimensions_m.pop_back();
+  expect(s, "scan: object 'p1'", "cone is missing dimension 'height'");
+  s = *scene;
+  s.objects[1].fit = 2;
+  expect(s, "scan: object 'p2'", "fit must be in [0, 1], found 2");
+  s = *scene;
+  s.objects[1].point_count = -5;
+  expect(s, "scan: object 'p2'", "points must be 0 or more, found -5");
+  s = *scene;
+  s.objects[1].id = "p1";
+  expect(s, "scan: object 'p1'", "duplicate object id 'p1'");
+  s = *scene;
+  s.support->normal = Vec3{};
+  expect(s, "scan", "support must be a non-zero vector");
+}
+
+TEST(SceneFormat, PropertyWriteThenParseIsIdentity) {
+  test::Gen g(1604);
+  for (int i = 0; i < 1000; ++i) {
+    const PhysicalScene scene = test::random_scene(g);
+    ASSERT_TRUE(validate_scene(scene).ok()) << validate_scene(scene).error().format();
+    const std::string text = write_scene(scene);
+    auto back = parse_scene(text, "gen");
+    ASSERT_TRUE(back.ok()) << back.error().format() << "\n" << text;
+    ASSERT_EQ(*back, scene) << text;
+    ASSERT_EQ(write_scene(*back), text);
+  }
+}
+
+}  // namespace
+}  // namespace annex
