@@ -1,0 +1,212 @@
+// Inspector (right): the selected object or primitive, numeric fields for pose and
+// dimensions, shape buttons, fit to selection and the spec's validation message.
+#include <cmath>
+
+#include <imgui.h>
+#include <imgui_stdlib.h>
+#include <glm/gtc/quaternion.hpp>
+
+#include "annex/authoring/fit.h"
+#include "panels.h"
+
+namespace annex::authoring {
+
+namespace {
+
+// Sliders and drags send an edit every frame; the step ends when the widget lets go.
+void end_step_if_done(CommandQueue& queue) {
+  if (ImGui::IsItemDeactivatedAfterEdit()) queue.push(cmd::EndEdit{});
+}
+
+void euler_from_quat(const Quat& q, float deg[3]) {
+  const glm::vec3 e =
+      glm::degrees(glm::eulerAngles(glm::quat(static_cast<float>(q.w), static_cast<float>(q.x),
+                                              static_cast<float>(q.y), static_cast<float>(q.z))));
+  deg[0] = e.x;
+  deg[1] = e.y;
+  deg[2] = e.z;
+}
+
+Quat quat_from_euler(const float deg[3]) {
+  const glm::quat g(glm::radians(glm::vec3(deg[0], deg[1], deg[2])));
+  return normalized(Quat{g.w, g.x, g.y, g.z});
+}
+
+void draw_object(const EditorDocument& doc, CommandQueue& queue, int o) {
+  const VirtualObject& obj = doc.spec().objects[o];
+  std::string name = obj.name;
+  if (ImGui::InputText("name", &name)) queue.push(cmd::RenameObject{o, name});
+  end_step_if_done(queue);
+  ImGui::TextDisabled("mesh: %s", obj.mesh.empty() ? "(none)" : obj.mesh.c_str());
+  if (const MeshData* m = doc.mesh_for(o))
+    ImGui::TextDisabled("%zu triangles, %.1f x %.1f x %.1f cm", m->triangle_count(),
+                        (m->max.x - m->min.x) * 100, (m->max.y - m->min.y) * 100,
+                        (m->max.z - m->min.z) * 100);
+  bool annexable = obj.annexable;
+  if (ImGui::Checkbox("annexable (matched to a physical prop)", &annexable))
+    queue.push(cmd::SetAnnexable{o, annexable});
+  float w = static_cast<float>(obj.priority);
+  if (ImGui::SliderFloat("object priority w_o", &w, 0.f, 1.f, "%.2f"))
+    queue.push(cmd::SetWeight{WeightLevel::object, o, -1, -1, w});
+  end_step_if_done(queue);
+}
+
+void draw_add_buttons(CommandQueue& queue, int o) {
+  ImGui::TextUnformatted("Add primitive:");
+  for (ShapeKind k : kAllShapes) {
+    ImGui::SameLine();
+    const std::string label(shape_name(k));
+    if (ImGui::SmallButton(label.c_str())) queue.push(cmd::AddPrimitive{o, k, std::nullopt, ""});
+  }
+}
+
+void draw_fit(const EditorDocument& doc, UiState& ui, CommandQueue& queue, int o, int p) {
+  const Primitive& prim = doc.spec().objects[o].primitives[p];
+  const MeshData* mesh = doc.mesh_for(o);
+  if (!ImGui::CollapsingHeader("Fit to selection", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  if (mesh == nullptr) {
+    ImGui::TextDisabled("The object has no mesh to fit to.");
+    return;
+  }
+  if (!(ui.fit_kind_for == Selection{o, p})) {
+    ui.fit_kind_for = {o, p};
+    ui.fit_kind = prim.kind;
+  }
+  int kind = static_cast<int>(ui.fit_kind);
+  const char* names[] = {"sphere", "cylinder", "cone", "torus", "box"};
+  ImGui::SetNextItemWidth(120);
+  if (ImGui::Combo("shape##fit", &kind, names, 5)) ui.fit_kind = static_cast<ShapeKind>(kind);
+  auto fit_to = [&](const std::vector<Vec3>& pts) {
+    Primitive base = prim;
+    if (base.kind != ui.fit_kind) {
+      base = make_primitive(ui.fit_kind, prim.name);
+      base.weight = prim.weight;
+    }
+    auto fit = fit_primitive(pts, ui.fit_kind);
+    if (!fit) {
+      ui.status = fit.error().message;
+      return;
+    }
+    queue.push(cmd::ReplacePrimitive{o, p, with_fit(base, *fit)});
+    queue.push(cmd::EndEdit{});
+  };
+  if (ImGui::Button("Fit to whole mesh")) fit_to(mesh_points(*mesh));
+  ImGui::SameLine();
+  const bool have_box = ui.box_object == o && !ui.box_points.empty();
+  ImGui::BeginDisabled(!have_box);
+  const std::string box_label =
+      "Fit to box selection (" + std::to_string(have_box ? ui.box_points.size() : 0) + " vertices)";
+  if (ImGui::Button(box_label.c_str())) fit_to(ui.box_points);
+  ImGui::EndDisabled();
+  ImGui::TextDisabled("Ctrl + drag in the viewport selects vertices.");
+}
+
+void draw_primitive(const EditorDocument& doc, UiState& ui, CommandQueue& queue, int o, int p) {
+  const Primitive& prim = doc.spec().objects[o].primitives[p];
+  std::string name = prim.name;
+  if (ImGui::InputText("primitive", &name)) queue.push(cmd::RenamePrimitive{o, p, name});
+  end_step_if_done(queue);
+  int kind = static_cast<int>(prim.kind);
+  const char* names[] = {"sphere", "cylinder", "cone", "torus", "box"};
+  if (ImGui::Combo("shape", &kind, names, 5))
+    queue.push(cmd::SetKind{o, p, static_cast<ShapeKind>(kind)});
+  float ws = static_cast<float>(prim.weight);
+  if (ImGui::SliderFloat("primitive priority w_s", &ws, 0.f, 1.f, "%.2f"))
+    queue.push(cmd::SetWeight{WeightLevel::primitive, o, p, -1, ws});
+  end_step_if_done(queue);
+
+  section("Pose (relative to the object)");
+  float pos[3] = {static_cast<float>(prim.pose.position.x),
+                  static_cast<float>(prim.pose.position.y),
+                  static_cast<float>(prim.pose.position.z)};
+  if (ImGui::DragFloat3("position m", pos, 0.001f, -10.f, 10.f, "%.3f")) {
+    Pose pose = prim.pose;
+    pose.position = {pos[0], pos[1], pos[2]};
+    queue.push(cmd::SetPose{o, p, pose});
+  }
+  end_step_if_done(queue);
+  float euler[3];
+  euler_from_quat(prim.pose.rotation, euler);
+  if (ImGui::DragFloat3("rotation deg", euler, 0.5f, -360.f, 360.f, "%.1f")) {
+    Pose pose = prim.pose;
+    pose.rotation = quat_from_euler(euler);
+    queue.push(cmd::SetPose{o, p, pose});
+  }
+  end_step_if_done(queue);
+  const Vec3 axis = prim.pose.axis();
+  ImGui::TextDisabled("axis (local +Z): %.2f %.2f %.2f", axis.x, axis.y, axis.z);
+
+  section("Dimensions");
+  const auto dim_names = dimension_names(prim.kind);
+  for (int d = 0;
+       d < static_cast<int>(prim.dimensions.size()) && d < static_cast<int>(dim_names.size());
+       ++d) {
+    float v = static_cast<float>(prim.dimensions[d].value_m);
+    const std::string label = std::string(dim_names[d]) + " m";
+    if (ImGui::DragFloat(label.c_str(), &v, 0.0005f, 0.001f, 5.f, "%.4f") && v > 0)
+      queue.push(cmd::SetDimension{o, p, d, v});
+    end_step_if_done(queue);
+  }
+  ImGui::Spacing();
+  if (ImGui::Button("Duplicate")) queue.push(cmd::DuplicatePrimitive{o, p});
+  ImGui::SameLine();
+  if (ImGui::Button("Remove")) queue.push(cmd::RemovePrimitive{o, p});
+  ImGui::SameLine();
+  ImGui::TextDisabled("handles:");
+  ImGui::SameLine();
+  int mode = static_cast<int>(ui.gizmo);
+  ImGui::RadioButton("move", &mode, 0);
+  ImGui::SameLine();
+  ImGui::RadioButton("rotate", &mode, 1);
+  ImGui::SameLine();
+  ImGui::RadioButton("size", &mode, 2);
+  ui.gizmo = static_cast<GizmoMode>(mode);
+  draw_fit(doc, ui, queue, o, p);
+}
+
+}  // namespace
+
+void draw_inspector(const EditorDocument& doc, UiState& ui, CommandQueue& queue,
+                    const Rect& where) {
+  ImGui::SetNextWindowPos(ImVec2(where.x, where.y));
+  ImGui::SetNextWindowSize(ImVec2(where.w, where.h));
+  if (!ImGui::Begin(
+          "Inspector", nullptr,
+          ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse)) {
+    ImGui::End();
+    return;
+  }
+  ImGui::PushItemWidth(-150);
+  const Selection sel = doc.selection();
+  if (sel.object < 0) {
+    ImGui::TextWrapped("Select an object in the outline.");
+  } else {
+    draw_object(doc, queue, sel.object);
+    ImGui::Separator();
+    draw_add_buttons(queue, sel.object);
+    if (sel.primitive >= 0) {
+      ImGui::Separator();
+      draw_primitive(doc, ui, queue, sel.object, sel.primitive);
+    }
+  }
+  ImGui::PopItemWidth();
+  ImGui::Separator();
+  // The same check and words as `annex-runtime check`.
+  const Status valid = doc.validate();
+  if (valid) {
+    ImGui::TextColored(ImVec4(0.45f, 0.85f, 0.45f, 1),
+                       "Valid: annex-runtime check accepts this spec.");
+  } else {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.5f, 0.45f, 1));
+    ImGui::TextWrapped("%s", valid.error().format().c_str());
+    ImGui::PopStyleColor();
+  }
+  for (const std::string& w : doc.warnings()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.8f, 0.3f, 1));
+    ImGui::TextWrapped("%s", w.c_str());
+    ImGui::PopStyleColor();
+  }
+  ImGui::End();
+}
+
+}  // namespace annex::authoring

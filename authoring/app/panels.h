@@ -1,0 +1,36 @@
+#pragma once
+// One panel per file, each drawing from the document and asking for edits through
+// the queue (STYLE.md, "The editor").
+
+#include "annex/authoring/editor_document.h"
+#include "ui_state.h"
+#include "view.h"
+
+namespace annex::authoring {
+
+void draw_menu_bar(const EditorDocument& doc, UiState& ui, CommandQueue& queue);
+void draw_outline(const EditorDocument& doc, UiState& ui, CommandQueue& queue, const Rect& where);
+void draw_inspector(const EditorDocument& doc, UiState& ui, CommandQueue& queue, const Rect& where);
+void draw_priorities(const EditorDocument& doc, UiState& ui, CommandQueue& queue,
+                     const Rect& where);
+void draw_limits(const EditorDocument& doc, UiState& ui, CommandQueue& queue, const Rect& where);
+void draw_match_preview(const EditorDocument& doc, UiState& ui, CommandQueue& queue,
+                        const Rect& where);
+// Camera input, viewport handles, box selection, overlay labels (no GL: ImGui draw lists).
+void draw_viewport(const EditorDocument& doc, UiState& ui, CommandQueue& queue);
+// Selects the vertices of the selected object's mesh whose projections fall in the
+// screen rectangle a-b (what Ctrl + drag does).
+void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b);
+// File dialog, unsaved-changes and recovery prompts.
+void draw_dialogs(const EditorDocument& doc, UiState& ui, CommandQueue& queue);
+
+// Opens the file chooser for `purpose` in a sensible folder.
+void open_file_dialog(UiState& ui, AppAction::Kind purpose, const EditorDocument& doc);
+
+// A labelled separator (ImGui 1.86 has no SeparatorText).
+void section(const char* title);
+
+// All of the above for one frame, in the fixed layout.
+void draw_editor(const EditorDocument& doc, UiState& ui, CommandQueue& queue);
+
+}  // namespace annex::authoring

@@ -1,0 +1,151 @@
+#include "annex/authoring/fit.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace annex::authoring {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Surface samples of a cylinder about `axis` (+Y or +Z), centred at c.
+std::vector<Vec3> cylinder_points(double r, double h, Vec3 c, bool along_y) {
+  std::vector<Vec3> pts;
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j < 36; ++j) {
+      const double t = 2 * kPi * j / 36, a = -h / 2 + h * i / 20;
+      const Vec3 local = along_y ? Vec3{r * std::cos(t), a, r * std::sin(t)}
+                                 : Vec3{r * std::cos(t), r * std::sin(t), a};
+      pts.push_back(c + local);
+    }
+  return pts;
+}
+
+TEST(FitPrimitive, CylinderAlongY) {
+  const auto pts = cylinder_points(0.04, 0.2, {0.1, 0.1, 0}, true);
+  auto fit = fit_primitive(pts, ShapeKind::cylinder);
+  ASSERT_TRUE(fit);
+  const Vec3 axis = fit->pose.axis();
+  EXPECT_NEAR(std::abs(axis.y), 1.0, 1e-6);
+  EXPECT_NEAR(fit->dimensions[0], 0.04, 1e-3);
+  EXPECT_NEAR(fit->dimensions[1], 0.2, 1e-6);
+  EXPECT_NEAR(fit->pose.position.x, 0.1, 1e-6);
+  EXPECT_NEAR(fit->pose.position.y, 0.1, 1e-6);
+}
+
+TEST(FitPrimitive, FlatDiscTakesItsThicknessAsAxis) {
+  // A paddle blade: radius 7.5 cm, 1 cm thick along Z.
+  const auto pts = cylinder_points(0.075, 0.01, {0, 0.17, 0}, false);
+  auto fit = fit_primitive(pts, ShapeKind::cylinder);
+  ASSERT_TRUE(fit);
+  EXPECT_NEAR(std::abs(fit->pose.axis().z), 1.0, 1e-6);
+  EXPECT_NEAR(fit->dimensions[0], 0.075, 1e-3);
+  EXPECT_NEAR(fit->dimensions[1], 0.01, 1e-6);
+}
+
+TEST(FitPrimitive, ConePointsFromBaseToApex) {
+  // Base radius 5 cm at y = 0, apex at y = 0.1.
+  std::vector<Vec3> pts;
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j < 36; ++j) {
+      const double y = 0.1 * i / 20, r = 0.05 * (1 - y / 0.1), t = 2 * kPi * j / 36;
+      pts.push_back({r * std::cos(t), y, r * std::sin(t)});
+    }
+  auto fit = fit_primitive(pts, ShapeKind::cone);
+  ASSERT_TRUE(fit);
+  EXPECT_NEAR(fit->pose.axis().y, 1.0, 1e-6);
+  EXPECT_NEAR(fit->dimensions[0], 0.05, 1e-3);
+  EXPECT_NEAR(fit->dimensions[1], 0.1, 1e-6);
+  // Upside down: the axis follows.
+  for (Vec3& p : pts) p.y = -p.y;
+  auto flipped = fit_primitive(pts, ShapeKind::cone);
+  ASSERT_TRUE(flipped);
+  EXPECT_NEAR(flipped->pose.axis().y, -1.0, 1e-6);
+}
+
+TEST(FitPrimitive, SphereAndBox) {
+  std::vector<Vec3> sphere;
+  for (int i = 1; i < 18; ++i)
+    for (int j = 0; j < 36; ++j) {
+      const double th = kPi * i / 18, ph = 2 * kPi * j / 36;
+      sphere.push_back({0.09 * std::sin(th) * std::cos(ph), 0.1 + 0.09 * std::cos(th),
+                        0.09 * std::sin(th) * std::sin(ph)});
+    }
+  sphere.push_back({0, 0.19, 0});
+  sphere.push_back({0, 0.01, 0});
+  auto s = fit_primitive(sphere, ShapeKind::sphere);
+  ASSERT_TRUE(s);
+  EXPECT_NEAR(s->dimensions[0], 0.09, 1e-3);
+  EXPECT_NEAR(s->pose.position.y, 0.1, 1e-3);
+
+  // Box 0.3 x 0.2 x 0.1 rotated 30 degrees about Z.
+  std::vector<Vec3> box;
+  const double c = std::cos(kPi / 6), sn = std::sin(kPi / 6);
+  for (int i = 0; i < 8; ++i) {
+    const Vec3 p{(i & 1) ? 0.15 : -0.15, (i & 2) ? 0.1 : -0.1, (i & 4) ? 0.05 : -0.05};
+    box.push_back({c * p.x - sn * p.y, sn * p.x + c * p.y, p.z});
+  }
+  auto b = fit_primitive(box, ShapeKind::box);
+  ASSERT_TRUE(b);
+  EXPECT_NEAR(b->dimensions[0], 0.3, 1e-6);
+  EXPECT_NEAR(b->dimensions[1], 0.2, 1e-6);
+  EXPECT_NEAR(b->dimensions[2], 0.1, 1e-6);
+  const Vec3 x_axis = rotate(b->pose.rotation, {1, 0, 0});
+  EXPECT_NEAR(std::abs(x_axis.x), c, 1e-6);
+}
+
+TEST(FitPrimitive, TorusLyingFlat) {
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 48; ++i)
+    for (int j = 0; j < 16; ++j) {
+      const double u = 2 * kPi * i / 48, v = 2 * kPi * j / 16;
+      const double rr = 0.03 + 0.008 * std::cos(v);
+      pts.push_back({rr * std::cos(u), 0.008 * std::sin(v), rr * std::sin(u)});
+    }
+  auto fit = fit_primitive(pts, ShapeKind::torus);
+  ASSERT_TRUE(fit);
+  EXPECT_NEAR(std::abs(fit->pose.axis().y), 1.0, 1e-6);
+  EXPECT_NEAR(fit->dimensions[0], 0.03, 1e-3);
+  EXPECT_NEAR(fit->dimensions[1], 0.008, 1e-4);
+}
+
+TEST(FitPrimitive, TooFewPointsIsAnError) {
+  const std::vector<Vec3> pts{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  auto fit = fit_primitive(pts, ShapeKind::sphere);
+  ASSERT_FALSE(fit);
+  EXPECT_NE(fit.error().message.find("at least 4"), std::string::npos);
+}
+
+TEST(FitPrimitive, WithFitKeepsWeightsAndRoundsNoise) {
+  Primitive p = make_primitive(ShapeKind::cylinder, "body");
+  p.weight = 0.4;
+  p.dimensions[0].weight = 0.8;
+  FitResult f;
+  f.pose.position = {1e-20, 0.123456789, -3e-19};
+  f.dimensions = {0.0456031345, 0.2};
+  const Primitive q = with_fit(p, f);
+  EXPECT_EQ(q.name, "body");
+  EXPECT_EQ(q.weight, 0.4);
+  EXPECT_EQ(q.dimensions[0].weight, 0.8);
+  EXPECT_EQ(q.pose.position.x, 0.0);
+  EXPECT_FALSE(std::signbit(q.pose.position.z));
+  EXPECT_NEAR(q.pose.position.y, 0.12346, 1e-12);
+  EXPECT_NEAR(q.dimensions[0].value_m, 0.0456, 1e-12);
+}
+
+TEST(SymmetricEigen, DiagonalAndRotatedFrame) {
+  const double m[3][3] = {{1, 0, 0}, {0, 3, 0}, {0, 0, 2}};
+  const Eigen3 e = symmetric_eigen(m);
+  EXPECT_NEAR(e.values[0], 3, 1e-12);
+  EXPECT_NEAR(e.values[1], 2, 1e-12);
+  EXPECT_NEAR(e.values[2], 1, 1e-12);
+  EXPECT_NEAR(std::abs(e.vectors[0].y), 1, 1e-12);
+  const Quat q = quat_from_frame({0, 1, 0}, {-1, 0, 0}, {0, 0, 1});  // 90 degrees about Z
+  const Vec3 x = rotate(q, {1, 0, 0});
+  EXPECT_NEAR(x.y, 1, 1e-12);
+  EXPECT_NEAR(x.x, 0, 1e-12);
+}
+
+}  // namespace
+}  // namespace annex::authoring

@@ -1,0 +1,31 @@
+#pragma once
+// Shared helpers of the authoring tests: a fresh temporary folder per test.
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace annex::authoring::testing {
+
+inline std::filesystem::path fresh_dir(const std::string& name) {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "annex-author-tests" /
+      (std::string(info->test_suite_name()) + "." + info->name() + "." + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+inline void write_text(const std::filesystem::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
+
+inline std::string sample_model(const std::string& name) {
+  return std::string(ANNEX_SOURCE_DIR) + "/samples/models/" + name;
+}
+
+}  // namespace annex::authoring::testing
