@@ -1,11 +1,12 @@
 #include "renderer.h"
 
+#include "annex/formats/png_io.h"
+
 #include <algorithm>
 #include <cmath>
 
 #define GL_GLEXT_PROTOTYPES
 #include <GL/glcorearb.h>
-#include <stb/stb_image_write.h>
 #include <glm/glm.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
@@ -398,9 +399,7 @@ Status write_screenshot(const std::string& path, int width, int height) {
   for (int row = 0; row < height; ++row)
     std::copy_n(pixels.data() + static_cast<std::size_t>(height - 1 - row) * stride, stride,
                 flipped.data() + static_cast<std::size_t>(row) * stride);
-  if (stbi_write_png(path.c_str(), width, height, 4, flipped.data(), static_cast<int>(stride)) == 0)
-    return Error{"cannot write screenshot", {path, 0, 0}};
-  return Ok{};
+  return write_png_file(path, width, height, 4, flipped.data());
 }
 
 }  // namespace annex::authoring

@@ -7,7 +7,7 @@
 #include <utility>
 
 #include "annex/formats/file_io.h"
-#include "text_lexer.h"
+#include "annex/formats/text_lexer.h"
 
 namespace annex {
 namespace {

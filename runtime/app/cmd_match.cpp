@@ -7,6 +7,8 @@
 #include "annex/formats/haptic_format.h"
 #include "annex/formats/scene_format.h"
 #include "annex/runtime/match_report.h"
+#include "annex/runtime/pcd_io.h"
+#include "annex/runtime/scanner.h"
 #include "commands.h"
 
 namespace annex::cli {
@@ -23,11 +25,35 @@ std::optional<double> parse_non_negative(std::string_view option, const std::str
   return x;
 }
 
+// A .scene file as it is, or a depth frame scanned first (exit code with the error).
+Result<PhysicalScene> load_scene(const std::string& path, const std::optional<std::string>& config,
+                                 std::vector<Diagnostic>& warnings, int& failure_code) {
+  failure_code = kExitBadInput;
+  if (!path.ends_with(".pcd")) return read_scene_file(path, &warnings);
+  ScanParams params;
+  if (config) {
+    Result<ScanParams> cfg = read_scan_config_file(*config);
+    if (!cfg) return cfg.error();
+    params = *cfg;
+  }
+  const Result<Frame> frame = read_pcd(path);
+  if (!frame) return frame.error();
+  Result<ScanResult> scan = scan_frame(*frame, params);
+  if (!scan) {
+    Error e = scan.error();
+    e.location.origin = path;
+    failure_code = kExitFailure;
+    return e;
+  }
+  return std::move(scan->scene);
+}
+
 int run_match(const std::vector<std::string>& args) {
-  const auto parsed = parse_args("match", args, {{"explain"}, {"min-vote", "max-vote"}});
+  const auto parsed = parse_args("match", args, {{"explain"}, {"min-vote", "max-vote", "config"}});
   if (!parsed) return kExitBadInput;
   if (parsed->positional.size() != 2) {
-    std::cerr << "annex-runtime match: error: expected SPEC.haptic and SCENE.scene (see --help)\n";
+    std::cerr << "annex-runtime match: error: expected SPEC.haptic and SCENE.scene or CLOUD.pcd"
+                 " (see --help)\n";
     return kExitBadInput;
   }
   MatchParams params;
@@ -44,11 +70,14 @@ int run_match(const std::vector<std::string>& args) {
 
   std::vector<Diagnostic> warnings;
   const Result<HapticSpec> spec = read_haptic_file(parsed->positional[0], &warnings);
-  const Result<PhysicalScene> scene = read_scene_file(parsed->positional[1], &warnings);
+  int scene_failure = kExitBadInput;
+  const Result<PhysicalScene> scene =
+      load_scene(parsed->positional[1], parsed->get("config"), warnings, scene_failure);
   for (const Diagnostic& w : warnings) std::cerr << w.format() << "\n";
   if (!spec) std::cerr << spec.error().format() << "\n";
   if (!scene) std::cerr << scene.error().format() << "\n";
-  if (!spec || !scene) return kExitBadInput;
+  if (!spec) return kExitBadInput;
+  if (!scene) return scene_failure;
 
   const MatchResult result = match_objects(*spec, *scene, params);
   if (parsed->has("explain")) std::cout << format_vote_table(*spec, *scene, result) << "\n";
@@ -60,8 +89,11 @@ int run_match(const std::vector<std::string>& args) {
 
 const Command kMatchCommand{
     "match", "vote and match a spec against a scene (the match simulator)",
-    "usage: annex-runtime match SPEC.haptic SCENE.scene [--explain] [--min-vote X] [--max-vote C]\n"
+    "usage: annex-runtime match SPEC.haptic (SCENE.scene | CLOUD.pcd) [--explain]\n"
+    "                           [--min-vote X] [--max-vote C] [--config SCAN.conf]\n"
     "\n"
+    "With a depth frame (.pcd) the scanner runs first (see 'scan --help') and its\n"
+    "objects p1, p2, ... are the physical objects.\n"
     "Every annexable virtual object votes for every physical object (the paper's\n"
     "voting equation) and the Hungarian method picks the assignment with the highest\n"
     "total vote. Prints one line per virtual object, in spec order:\n"
@@ -71,8 +103,10 @@ const Command kMatchCommand{
     "  --explain      print the vote table and each pair's breakdown first\n"
     "  --min-vote X   never match a pair voting X or less (default 0)\n"
     "  --max-vote C   the constant C, the highest possible vote (default 100)\n"
+    "  --config FILE  scan parameters for a .pcd (default: Kinect, samples/config/scan.conf)\n"
     "\n"
-    "Exit 0 on success, 2 on bad arguments or an invalid file (file:line:col: error: ...).\n",
+    "Exit 0 on success, 1 when a frame has no support plane, 2 on bad arguments or an\n"
+    "invalid file (file:line:col: error: ...).\n",
     run_match};
 
 }  // namespace annex::cli

@@ -7,5 +7,9 @@ namespace annex::cli {
 
 extern const Command kCheckCommand;
 extern const Command kMatchCommand;
+extern const Command kScanCommand;
+extern const Command kSynthCommand;
+extern const Command kRenderCommand;
+extern const Command kRunCommand;
 
 }  // namespace annex::cli

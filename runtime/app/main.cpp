@@ -13,6 +13,10 @@ using annex::cli::Command;
 const Command* const kCommands[] = {
     &annex::cli::kCheckCommand,
     &annex::cli::kMatchCommand,
+    &annex::cli::kScanCommand,
+    &annex::cli::kSynthCommand,
+    &annex::cli::kRenderCommand,
+    &annex::cli::kRunCommand,
 };
 
 void print_usage(std::ostream& out) {

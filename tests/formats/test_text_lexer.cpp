@@ -1,4 +1,4 @@
-#include "text_lexer.h"
+#include "annex/formats/text_lexer.h"
 
 #include <gtest/gtest.h>
 

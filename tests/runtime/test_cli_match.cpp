@@ -80,6 +80,27 @@ TEST(CliMatch, BadSceneIsReportedWithLocation) {
   EXPECT_NE(r.output.find(scene + ":3:17: error: "), std::string::npos) << r.output;
 }
 
+TEST(CliMatch, ScansADepthFrameFirst) {
+  const std::string cloud =
+      std::string(ANNEX_SHARED_DIR) + "/data/real/milk_cartoon_all_small_clorox.pcd";
+  if (!std::filesystem::exists(cloud))
+    GTEST_SKIP() << "real scans not found at " << cloud << " (../shared is not part of the repo)";
+  const CliRun m = run_cli("match " + shell_quote(source_path("samples/specs/study.haptic")) +
+                           " " + shell_quote(cloud));
+  ASSERT_EQ(m.exit_code, 0) << m.output;
+  // The bleach bottle is a cylinder with a neck cone: the champagne bottle's body takes it.
+  EXPECT_NE(m.output.find("match champagne_bottle p"), std::string::npos) << m.output;
+  EXPECT_NE(m.output.find("virtual-only dragon"), std::string::npos) << m.output;
+}
+
+TEST(CliMatch, CorruptDepthFrameIsABadInput) {
+  const std::string cloud = temp_file("corrupt.pcd", "# .PCD v0.7\nVERSION 0.7\nFIELDS x y\n");
+  const CliRun m = run_cli("match " + shell_quote(source_path("samples/figure3/figure3.haptic")) +
+                           " " + shell_quote(cloud));
+  EXPECT_EQ(m.exit_code, 2) << m.output;
+  EXPECT_NE(m.output.find(cloud), std::string::npos) << m.output;
+}
+
 TEST(Cli, HelpOnEveryCommandAndUsageErrors) {
   for (const char* cmd : {"check", "match"}) {
     const CliRun r = run_cli(std::string(cmd) + " --help");

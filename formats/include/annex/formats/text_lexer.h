@@ -1,7 +1,8 @@
 #pragma once
 // The line-oriented lexer shared by the .haptic and .scene readers, plus the small
 // helpers both readers and writers need (strict numbers, identifiers, did-you-mean,
-// shortest round-trip number text). Private to formats/.
+// shortest round-trip number text). Also used by the other `key value` config
+// files (HMD, scan) so every Annex text file reports errors the same way.
 
 #include <cstddef>
 #include <optional>

@@ -1,0 +1,171 @@
+// Tracking benchmarks (docs/BENCHMARKS.md, "Tracking"): one PoseTracker step per
+// object per frame, the InitialAligner (seeded, and the FPFH fallback), and the whole
+// runtime loop on a 640x480 stream with 3 tracked props (no rendering).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "annex/runtime/annex_session.h"
+#include "annex/runtime/pose_tracker.h"
+#include "annex/runtime/synthetic_scene.h"
+
+namespace annex {
+namespace {
+
+constexpr int kFrames = 12;
+
+struct Sequence {
+  SyntheticScene scene;
+  std::vector<SyntheticFrame> frames;
+  CameraIntrinsics camera;
+};
+
+// Three props (cylinder, sphere, box) drifting and turning. Rendering takes about a
+// second, so every benchmark below runs a fixed number of iterations: its function (and
+// this setup) then runs once.
+Sequence make_sequence() {
+  Sequence s;
+  SyntheticSceneParams p;
+  p.seed = 31;
+  p.object_count = 3;
+  p.kinds = {ShapeKind::cylinder, ShapeKind::sphere, ShapeKind::box};
+  s.scene = generate_scene(p).value();
+  for (int k = 0; k < kFrames; ++k) s.frames.push_back(render_scene(s.scene, {}, k));
+  s.camera = estimate_intrinsics(s.frames[0].frame).value();
+  return s;
+}
+
+Pose truth_pose(const SyntheticScene& scene, int i, int frame) {
+  const SyntheticScene s = scene_at_frame(scene, frame);
+  const SyntheticObject& o = s.objects[static_cast<size_t>(i)];
+  const double yaw = o.yaw_deg * std::numbers::pi / 180.0;
+  const Vec3 x = table_to_camera_direction(s, {std::cos(yaw), std::sin(yaw), 0});
+  const Vec3 z = table_to_camera_direction(s, {0, 0, 1});
+  return {table_to_camera_point(s, o.center), quat_from_axes(x, cross(z, x), z)};
+}
+
+ObjectTrack track_for(const Sequence& s, int i) {
+  std::vector<Vec3> pts;
+  const SyntheticFrame& f = s.frames[0];
+  for (size_t k = 0; k < f.labels.size(); ++k)
+    if (f.labels[k] == i && std::isfinite(f.frame.points[k].z))
+      pts.push_back({f.frame.points[k].x, f.frame.points[k].y, f.frame.points[k].z});
+  return start_track(s.scene.objects[static_cast<size_t>(i)].kind, pts, truth_pose(s.scene, i, 0));
+}
+
+// One object, one frame: segment the cube, ICP. Arg: the object (0 cylinder, 1 sphere, 2 box).
+void BM_TrackStepPerObject(benchmark::State& state) {
+  const Sequence s = make_sequence();
+  const int i = static_cast<int>(state.range(0));
+  const ObjectTrack start = track_for(s, i);
+  ObjectTrack t = start;
+  int k = 1;
+  for (auto _ : state) {
+    TrackingInput in{
+        &s.frames[static_cast<size_t>(k)].frame, s.camera, s.frames[0].truth.support, {}};
+    t = track_step(t, in);
+    benchmark::DoNotOptimize(t.pose);
+    if (++k == kFrames) {
+      k = 1;
+      t = start;
+    }
+  }
+  state.SetLabel(std::string(shape_name(s.scene.objects[static_cast<size_t>(i)].kind)));
+}
+BENCHMARK(BM_TrackStepPerObject)
+    ->Arg(0)
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(600)
+    ->Unit(benchmark::kMillisecond);
+
+// Re-initialisation: the object 3 cm and 30 degrees from its last pose; seeded aligner.
+void BM_InitialAlignSeeded(benchmark::State& state) {
+  const Sequence s = make_sequence();
+  const int i = static_cast<int>(state.range(0));
+  const ObjectTrack t = track_for(s, i);
+  const Pose truth = truth_pose(s.scene, i, 6);
+  InitialAlignInput in;
+  in.frame = &s.frames[6].frame;
+  in.camera = s.camera;
+  in.support = s.frames[0].truth.support;
+  const double a = 30 * std::numbers::pi / 180;
+  const Vec3 up = in.support->normal;
+  in.orientation = normalized(Quat{std::cos(a / 2), up.x * std::sin(a / 2), up.y * std::sin(a / 2),
+                                   up.z * std::sin(a / 2)} *
+                              truth.rotation);
+  in.positions = {truth.position + Vec3{0.03, 0, 0}};
+  int ok = 0;
+  for (auto _ : state) {
+    const InitialAlignResult r = align_initial(*t.model, in);
+    ok += r.ok;
+    benchmark::DoNotOptimize(r.pose);
+  }
+  state.counters["ok"] = benchmark::Counter(ok, benchmark::Counter::kAvgIterations);
+  state.SetLabel(std::string(shape_name(s.scene.objects[static_cast<size_t>(i)].kind)));
+}
+BENCHMARK(BM_InitialAlignSeeded)
+    ->Arg(0)
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(40)
+    ->Unit(benchmark::kMillisecond);
+
+// The paper's aligner for comparison: FPFH (2.5 cm) + prerejective RANSAC on the box.
+void BM_InitialAlignFpfh(benchmark::State& state) {
+  const Sequence s = make_sequence();
+  const ObjectTrack t = track_for(s, 2);
+  const Pose truth = truth_pose(s.scene, 2, 6);
+  const TargetCloud target =
+      segment_target_volume(s.frames[6].frame, s.camera, truth.position, t.model->radius_m + 0.05,
+                            s.frames[0].truth.support);
+  int found = 0;
+  for (auto _ : state) {
+    const auto pose = align_fpfh(*t.model, target);
+    found += pose.has_value();
+    benchmark::DoNotOptimize(pose);
+  }
+  state.counters["found"] = benchmark::Counter(found, benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_InitialAlignFpfh)->Iterations(30)->Unit(benchmark::kMillisecond);
+
+// The runtime loop without rendering: 3 props matched on frame 0, then tracked, a scan
+// every 10 frames. Items per second = frames per second.
+void BM_SessionFrame(benchmark::State& state) {
+  const Sequence s = make_sequence();
+  HapticSpec spec;
+  for (size_t i = 0; i < s.scene.objects.size(); ++i) {
+    VirtualObject v;
+    v.name = "v" + std::to_string(i);
+    Primitive p = make_primitive(s.scene.objects[i].kind, "body");
+    for (size_t d = 0; d < p.dimensions.size(); ++d)
+      p.dimensions[d].value_m = s.scene.objects[i].dimensions_m[d];
+    v.primitives.push_back(p);
+    spec.objects.push_back(v);
+  }
+  SessionParams params;
+  params.threads = static_cast<int>(state.range(0));
+  AnnexSession session(spec, params);
+  session.process(s.frames[0].frame);
+  int k = 1;
+  size_t tracked = 0;
+  for (auto _ : state) {
+    const FrameReport r = session.process(s.frames[static_cast<size_t>(k)].frame);
+    tracked += r.objects.size();
+    if (++k == kFrames) k = 1;  // the props jump back: a re-initialisation now and then
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["objects"] =
+      benchmark::Counter(static_cast<double>(tracked), benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_SessionFrame)
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(220)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+}  // namespace annex

@@ -1,0 +1,85 @@
+#pragma once
+// ObjectShapeRecognizer (paper: "Object Shape Recognition"): fits the primitives of
+// one segmented object resting on a known support plane. The salient primitive is
+// chosen among sphere, cylinder, cone, torus and box by coverage and residuals, not by
+// inlier count alone; a secondary primitive is added when a second shape explains a
+// large share of the points (a bottle's neck above its body). docs/perception.md.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "annex/common/geometry.h"
+#include "annex/common/physical_scene.h"
+
+namespace annex {
+
+struct ShapeRecognizerParams {
+  // Residual tolerance: a point is explained by a shape when its distance to the
+  // shape's surface is below max(min_tolerance_m, noise_factor * sigma_z(depth)).
+  double min_tolerance_m = 0.004;
+  double noise_factor = 2.5;
+  // The salient shape must explain at least this share of the object's points,
+  // otherwise the object is reported as unknown.
+  double min_coverage = 0.6;
+  // A more complex shape (cone over cylinder) must explain this much more.
+  double complexity_margin = 0.04;
+  // Sanity bounds on household objects.
+  double min_radius_m = 0.01;
+  double max_radius_m = 0.5;
+  // A cone must narrow by at least this share of its base radius, else it is a cylinder.
+  double min_cone_taper = 0.25;
+  // A secondary primitive must explain this share of the points the salient one misses
+  // and at least this share of all points.
+  double min_secondary_share = 0.12;
+  // Score penalty for a round side (cylinder, cone) when the side normals bunch into
+  // flat faces, and for a box when they spread around like a round side.
+  double side_shape_penalty = 0.1;
+  // At most this many points enter the fits (a deterministic subsample).
+  int max_fit_points = 800;
+  std::uint64_t seed = 1;
+};
+
+// A fitted primitive with its full pose: PhysicalPrimitive keeps the axis only, the
+// overlay also needs the box's in-plane orientation.
+struct ShapeFit {
+  PhysicalPrimitive primitive;
+  Vec3 x_axis{1, 0, 0};  // box: local x (size_x) direction; others: any perpendicular
+  double rms_m = 0;      // RMS distance of the explained points to the surface
+  double coverage = 0;   // share of the points within tolerance
+};
+
+struct ObjectShape {
+  std::vector<ShapeFit> primitives;  // salient first; empty when unknown
+  double fit = 0;                    // the salient coverage, 0 when unknown
+  // Every candidate the recognizer tried, for diagnostics (kind, coverage, rms).
+  std::vector<ShapeFit> candidates;
+};
+
+// Points (and optional unit normals, same size or empty) of one object in the sensor
+// frame; `support` is the plane it rests on, normal pointing up (away from the table).
+ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
+                                   const std::vector<Vec3>& normals, const Plane& support,
+                                   const ShapeRecognizerParams& params = {});
+
+// The paper's method for comparison: CGAL 5.5 Efficient RANSAC (Schnabel et al. 2007)
+// on the same points (jet normals estimated when `normals` is empty), salient primitive
+// = the detected shape with most support. Used by the benchmark (docs/perception.md).
+struct CgalRansacParams {
+  double probability = 0.05;
+  int min_points = 100;
+  double epsilon_m = 0.005;
+  double cluster_epsilon_m = 0.02;
+  double normal_threshold = 0.85;
+  int jet_neighbours = 18;
+  std::uint64_t seed = 1;
+};
+ObjectShape recognize_object_shape_cgal(const std::vector<Vec3>& points,
+                                        const std::vector<Vec3>& normals,
+                                        const CgalRansacParams& params = {});
+
+// Kinect axial noise (Nguyen et al. 2012), metres at depth z metres.
+inline double kinect_sigma_z(double z) { return 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4); }
+
+}  // namespace annex

@@ -1,0 +1,109 @@
+#pragma once
+// The scanning pipeline of the paper (METHOD.md §2) on one depth frame: dominant
+// near-horizontal plane, its convex hull, the prism of points above it, object
+// clusters, Moving Least Squares smoothing, then ObjectShapeRecognizer per cluster.
+// The fast path works on the organized 640x480 grid; scan_frame_pcl_reference runs
+// the paper's straightforward PCL pipeline for comparison (docs/perception.md).
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "annex/common/geometry.h"
+#include "annex/common/physical_scene.h"
+#include "annex/common/result.h"
+#include "annex/runtime/frame.h"
+#include "annex/runtime/object_shape_recognizer.h"
+
+namespace annex {
+
+// Every field is a key of the scan config file (samples/config/scan.conf).
+struct ScanParams {
+  // Up direction in the camera frame (x right, y down, z forward); a Kinect looking
+  // down at a table by `camera_tilt_deg` sees up as -y rotated about x.
+  // The defaults accept supports seen from level (office1) to 75 degrees down.
+  Vec3 up{0, -1, 0};
+  double camera_tilt_deg = 30;
+  // Planes whose normal is further than this from up are not supports.
+  double max_plane_angle_deg = 45;
+  double plane_distance_m = 0.012;  // plane inlier band (grows with depth noise)
+  int plane_iterations = 300;       // RANSAC samples
+  int min_plane_points = 2000;      // full-resolution points
+  int pixel_stride = 2;             // plane search works on every n-th pixel
+  // The hull of the support's visible part is extended to the camera's foot on the
+  // plane (objects in front of the visible floor hide the floor under them).
+  bool hull_to_camera = true;
+  // Prism: objects between these heights above the plane, inside its hull.
+  double min_height_m = 0.012;
+  double max_height_m = 0.6;
+  double max_depth_m = 4.0;  // farther points are ignored (Kinect range)
+  // Clusters: grid neighbours closer than this in 3D join; tiny clusters are dropped.
+  double cluster_tolerance_m = 0.02;
+  int cluster_window_px = 2;   // neighbours searched within +-n pixels (bridges dropouts)
+  int min_cluster_points = 300;  // full-resolution points
+  int max_cluster_points = 250000;
+  // MLS: local plane fit within this radius, points projected onto it. 0 disables.
+  double mls_radius_m = 0.012;
+  int mls_window_px = 4;
+  // Points whose smoothed surface is seen at a grazing angle (|cos| below this) are
+  // veil points between an object's edge and the background: left out of the fits.
+  double min_view_cos = 0.2;
+  ShapeRecognizerParams shape;
+  // Worker threads for the per-cluster stages (smoothing, shapes); results do not
+  // depend on it.
+  int threads = 2;
+};
+
+// Reads `key value` lines (# comments); errors carry file:line:col. Unknown keys are
+// errors too (a misspelt key silently ignored would change the scan).
+Result<ScanParams> parse_scan_config(std::string_view text, std::string_view origin);
+Result<ScanParams> read_scan_config_file(const std::filesystem::path& path);
+// The effective up vector after camera tilt.
+Vec3 effective_up(const ScanParams& params);
+
+// One object as found in the frame, for overlays and tracking.
+struct ScanCluster {
+  std::vector<int> pixels;     // indices into frame.points
+  std::vector<Vec3> points;    // smoothed points used for the fits
+  ObjectShape shape;
+};
+
+struct StageTime {
+  std::string name;
+  double ms = 0;
+};
+
+struct ScanResult {
+  PhysicalScene scene;  // support plane and objects p1, p2, ... left to right
+  Plane plane;
+  std::vector<Vec3> hull;            // convex hull of the support, on the plane
+  std::vector<ScanCluster> clusters; // same order as scene.objects
+  int plane_inliers = 0;
+  std::vector<StageTime> stages;     // plane, prism, clusters, mls, shapes
+};
+
+// Errors: an empty or all-invalid frame, or no near-horizontal plane in it.
+Result<ScanResult> scan_frame(const Frame& frame, const ScanParams& params = {});
+
+// The paper's pipeline with PCL's stock filters (5 mm voxel grid, SAC plane, convex
+// hull, polygonal prism, Euclidean clusters, MLS, SAC sphere/cylinder/cone fits with
+// most inliers winning). Slow; kept for the benchmark and as a cross-check.
+struct PclReferenceParams {
+  double voxel_m = 0.005;
+  double plane_distance_m = 0.01;
+  double cluster_tolerance_m = 0.02;
+  int min_cluster_points = 100;
+  double mls_radius_m = 0.03;
+  double shape_distance_m = 0.01;
+  int shape_iterations = 1000;
+};
+Result<ScanResult> scan_frame_pcl_reference(const Frame& frame,
+                                            const PclReferenceParams& params = {});
+
+// Left-to-right order of objects and their ids p1, p2, ...: by the image column of the
+// cluster's centroid (ties by row), so repeated scans of one frame agree.
+void order_and_name_objects(ScanResult& result);
+
+}  // namespace annex

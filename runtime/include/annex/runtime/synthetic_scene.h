@@ -1,0 +1,144 @@
+#pragma once
+// Synthetic tabletop scenes seen by a Kinect-like camera, with exact ground truth:
+// the scanner's accuracy tests and benchmarks run on these. Each pixel's ray is cast
+// against analytic shapes (exact z-buffer, occlusion for free), then the Kinect
+// noise model is applied (Nguyen, Izadi & Lovell 2012: axial sigma
+// 0.0012 + 0.0019 (z - 0.4)^2 m), with lateral jitter and dropout.
+//
+// Geometry lives in a table frame: origin on the table top, +Z up, the camera looking
+// roughly along +Y and down. Every object rests upright on the table (sphere,
+// cylinder, cone with its base down, torus lying flat, box), so its axis is +Z and
+// its orientation a yaw about it. Ground truth is converted to the camera frame.
+//
+// Deterministic for a seed within one toolchain (std::mt19937_64 and std
+// distributions, whose exact output the C++ standard leaves to the library).
+
+#include <array>
+#include <cstdint>
+#include <iterator>
+#include <optional>
+#include <vector>
+
+#include "annex/common/geometry.h"
+#include "annex/common/physical_scene.h"
+#include "annex/common/result.h"
+#include "annex/common/shape.h"
+#include "annex/runtime/frame.h"
+
+namespace annex {
+
+struct SyntheticSceneParams {
+  std::uint64_t seed = 1;
+  int object_count = 4;
+  std::vector<ShapeKind> kinds{std::begin(kAllShapes), std::end(kAllShapes)};
+  CameraIntrinsics camera;
+  double camera_distance_min_m = 0.8;  // from the camera to its aim point on the table
+  double camera_distance_max_m = 1.2;
+  double camera_tilt_min_deg = 30;  // below the horizon
+  double camera_tilt_max_deg = 60;
+  // Share of an object's image bounding box that nearer objects may cover; keeps
+  // every object largely visible (1 allows full occlusion).
+  double max_view_overlap = 0.25;
+  // Sequences: each object drifts on the table and spins about its axis per frame.
+  double max_speed_m_per_frame = 0.003;
+  double max_spin_deg_per_frame = 2.0;
+  // A box (an arm, say) crossing the view between camera and table, for tracking tests.
+  bool occluder = false;
+  double occluder_speed_m_per_frame = 0.012;
+};
+
+// An object resting on the table. `center` is in the table frame: the middle of the
+// shape's axis (sphere and box: their centre; cylinder and cone: half their height
+// above the table; torus: its centre, minor radius above the table).
+struct SyntheticObject {
+  ShapeKind kind = ShapeKind::sphere;
+  std::vector<double> dimensions_m;  // dimension_names(kind) order
+  Vec3 center;
+  double yaw_deg = 0;  // about +Z; only a box shows it
+  std::array<std::uint8_t, 3> color{200, 60, 60};
+  Vec3 velocity_m_per_frame;  // horizontal drift
+  double spin_deg_per_frame = 0;
+};
+
+// An axis-aligned box floating between camera and table (table frame).
+struct SyntheticOccluder {
+  Vec3 center;
+  Vec3 size_m{0.07, 0.07, 0.4};
+  Vec3 velocity_m_per_frame;
+};
+
+struct SyntheticScene {
+  std::uint64_t seed = 1;  // also seeds the sensor noise of every frame
+  CameraIntrinsics camera;
+  Vec3 camera_position;       // table frame
+  double camera_tilt_deg = 45;  // the optical axis points along (0, cos, -sin)
+  double table_half_x_m = 0.7;
+  double table_half_y_m = 0.45;
+  double table_thickness_m = 0.03;
+  double floor_depth_m = 0.75;  // floor plane z = -floor_depth_m
+  double wall_y_m = 1.2;        // wall plane y = wall_y_m
+  std::vector<SyntheticObject> objects;
+  std::optional<SyntheticOccluder> occluder;
+};
+
+// The Kinect sensor model applied while rendering.
+struct SensorNoiseParams {
+  bool enabled = true;  // false: exact depths, no jitter, no dropout
+  double lateral_sigma_px = 0.8;
+  double dropout = 0.02;      // everywhere
+  double grazing_cos = 0.25;  // below this |cos(incidence)| dropout rises linearly to 1
+  double edge_dropout = 0.5;  // at depth discontinuities
+  double edge_jump_m = 0.03;
+  double min_range_m = 0.4;  // the Kinect returns nothing nearer or farther
+  double max_range_m = 4.0;
+};
+
+// Axial (depth) noise sigma in metres at depth z (Nguyen et al. 2012).
+double kinect_axial_sigma_m(double z_m);
+
+// Per-pixel labels of a rendered frame: an object's index, or one of these.
+inline constexpr int kLabelNothing = -1;
+inline constexpr int kLabelTable = -2;
+inline constexpr int kLabelFloor = -3;
+inline constexpr int kLabelWall = -4;
+inline constexpr int kLabelOccluder = -5;
+
+struct SyntheticFrame {
+  Frame frame;              // organized, camera frame, NaN where the sensor saw nothing
+  std::vector<int> labels;  // what each pixel's ray hit (also where the point dropped out)
+  PhysicalScene truth;      // table plane and objects in the camera frame
+};
+
+// A random scene: the camera pose, table, background and `object_count` objects of
+// household sizes (sphere r 3-8 cm; cylinder r 3-6 cm, h 8-30 cm; cone r 4-8 cm,
+// h 8-25 cm; torus R 4-8 cm, r 1.5-3 cm; box sides 5-25 cm), not touching each other.
+// Errors when the objects cannot be placed within the view.
+Result<SyntheticScene> generate_scene(const SyntheticSceneParams& params);
+
+// An object of this kind and size resting on the table at (x, y), e.g. to add a
+// chosen object to a generated scene (the caller keeps objects from touching).
+SyntheticObject resting_object(ShapeKind kind, std::vector<double> dimensions_m, double x_m,
+                               double y_m, double yaw_deg = 0);
+
+// The scene `frame_index` frames later: objects moved by their velocities and spins,
+// the occluder moved along its path.
+SyntheticScene scene_at_frame(const SyntheticScene& scene, int frame_index);
+
+// Renders frame `frame_index` of the scene's sequence (0 for a still scene): the
+// moved scene, sensor noise seeded from (scene.seed, frame_index), timestamp at 30 Hz.
+SyntheticFrame render_scene(const SyntheticScene& scene, const SensorNoiseParams& noise = {},
+                            int frame_index = 0);
+
+// Table-frame points and directions in the camera frame (x right, y down, z forward).
+Vec3 table_to_camera_point(const SyntheticScene& scene, Vec3 p);
+Vec3 table_to_camera_direction(const SyntheticScene& scene, Vec3 d);
+
+// Ground truth in the camera frame: the table top as support plane, one object per
+// scene object (ids "o1", "o2", ...) with one primitive (fit 1). A box's size_x and
+// size_y run along its yawed local axes, which PhysicalPrimitive cannot express.
+// With labels (from render_scene of this scene) each object's point_count is its
+// visible pixels; the frame marks dropped-out pixels NaN, so pass it too.
+PhysicalScene ground_truth(const SyntheticScene& scene, const Frame* frame = nullptr,
+                           const std::vector<int>* labels = nullptr);
+
+}  // namespace annex

@@ -1,0 +1,881 @@
+// ObjectShapeRecognizer: fits constrained by the support plane. Objects rest on the
+// plane, so upright cylinders, cones, boxes and flat tori share its normal as axis and
+// their bottom lies on it; a sphere's centre sits one radius above it. That turns 3D
+// shape detection into small 2D fits (circles, rectangles, radius profiles) that are
+// fast and robust on the half of an object a depth camera sees. The salient shape is
+// the candidate with the best truncated-quadratic (MSAC) score over all points, with
+// sanity bounds and a margin for the more complex shapes (docs/perception.md).
+#include "annex/runtime/object_shape_recognizer.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <optional>
+#include <random>
+
+namespace annex {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A point in plane coordinates: a, b along the plane, h height above it.
+struct Local {
+  double a = 0, b = 0, h = 0;
+};
+
+struct PlaneFrame {
+  Vec3 n, u, v;
+  double d = 0;
+  Local to_local(Vec3 p) const { return {dot(u, p), dot(v, p), dot(n, p) + d}; }
+  Vec3 to_world(double a, double b, double h) const { return u * a + v * b + n * (h - d); }
+  Vec3 dir(double da, double db, double dh) const { return u * da + v * db + n * dh; }
+};
+
+PlaneFrame make_frame(const Plane& plane) {
+  PlaneFrame f;
+  f.n = normalized(plane.normal);
+  f.d = plane.d / norm(plane.normal);
+  const Vec3 seed = std::abs(f.n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  f.u = normalized(cross(f.n, seed));
+  f.v = cross(f.n, f.u);
+  return f;
+}
+
+struct Samples {
+  std::vector<Local> p;
+  std::vector<double> up;   // normal . up, or 0 when normals are unknown
+  std::vector<double> na, nb;  // the normal's components along the plane axes
+  std::vector<double> tol;  // per-point residual tolerance
+  std::vector<Vec3> xyz;
+  bool has_normals = false;
+  double top = 0;  // object height above the plane
+};
+
+enum class Model { sphere, cylinder, cone, torus, box, lying_cylinder };
+
+// Every candidate's parameters in plane coordinates.
+struct Candidate {
+  Model model = Model::cylinder;
+  double ca = 0, cb = 0;  // axis (upright) or centre position on the plane
+  double h0 = 0, h1 = 0;  // base and top heights of upright shapes
+  double r0 = 0, r1 = 0;  // radius at base and top (cylinder: equal)
+  double hc = 0;          // sphere / torus centre height
+  double major = 0, minor = 0;
+  double theta = 0;       // box / lying cylinder orientation in the plane
+  double ex = 0, ey = 0;  // box half sizes; lying cylinder: ex = half length
+  bool valid = false;
+  double score = 0, coverage = 0, rms = 0;
+};
+
+// Distance from a point to the visible surface of a solid resting on the plane.
+double distance(const Candidate& c, const Local& p) {
+  const double da = p.a - c.ca, db = p.b - c.cb;
+  switch (c.model) {
+    case Model::sphere:
+      return std::abs(std::sqrt(da * da + db * db + (p.h - c.hc) * (p.h - c.hc)) - c.r0);
+    case Model::cylinder:
+    case Model::cone: {
+      const double rho = std::sqrt(da * da + db * db);
+      const double span = std::max(c.h1 - c.h0, 1e-6);
+      const double t = std::clamp((p.h - c.h0) / span, 0.0, 1.0);
+      const double r_at = c.r0 + (c.r1 - c.r0) * t;
+      // Side: radial offset (scaled by the slope) plus any overshoot beyond the ends.
+      const double slope = (c.r1 - c.r0) / span;
+      const double cos_a = 1.0 / std::sqrt(1.0 + slope * slope);
+      const double over = p.h > c.h1 ? p.h - c.h1 : (p.h < c.h0 ? c.h0 - p.h : 0.0);
+      const double side = std::hypot((rho - r_at) * cos_a, over);
+      const double cap = std::hypot(std::max(0.0, rho - c.r1), p.h - c.h1);
+      return std::min(side, cap);
+    }
+    case Model::torus: {
+      const double rho = std::sqrt(da * da + db * db);
+      return std::abs(std::hypot(rho - c.major, p.h - c.hc) - c.minor);
+    }
+    case Model::box: {
+      const double cs = std::cos(c.theta), sn = std::sin(c.theta);
+      const double x = std::abs(cs * da + sn * db), y = std::abs(-sn * da + cs * db);
+      const double h_top = c.h1;
+      const double ox = x - c.ex, oy = y - c.ey, oh = p.h - h_top;
+      if (ox <= 0 && oy <= 0 && oh <= 0 && p.h >= 0) return std::min({-ox, -oy, -oh});
+      return std::sqrt(std::pow(std::max(ox, 0.0), 2) + std::pow(std::max(oy, 0.0), 2) +
+                       std::pow(std::max(oh, 0.0) + std::max(-p.h, 0.0), 2));
+    }
+    case Model::lying_cylinder: {
+      const double cs = std::cos(c.theta), sn = std::sin(c.theta);
+      const double s = cs * da + sn * db, w = -sn * da + cs * db;
+      const double rho = std::hypot(w, p.h - c.hc);
+      const double over = std::max(std::abs(s) - c.ex, 0.0);
+      const double side = std::hypot(rho - c.r0, over);
+      const double cap = std::hypot(std::max(0.0, rho - c.r0), std::abs(s) - c.ex);
+      return std::min(side, cap);
+    }
+  }
+  return 1e9;
+}
+
+// Inside the upper third of a box or cylinder: where lids, gables and caps sit.
+bool in_lid(const Candidate& c, const Local& p) {
+  if (c.model != Model::box && c.model != Model::cylinder) return false;
+  if (p.h > c.h1 || p.h < c.h0 + 0.67 * (c.h1 - c.h0)) return false;
+  const double da = p.a - c.ca, db = p.b - c.cb;
+  if (c.model == Model::cylinder) return da * da + db * db < c.r0 * c.r0;
+  const double cs = std::cos(c.theta), sn = std::sin(c.theta);
+  return std::abs(cs * da + sn * db) < c.ex && std::abs(-sn * da + cs * db) < c.ey;
+}
+
+// MSAC-style score (1 - (d/tol)^2 per explained point) and coverage. Points inside a
+// box's or cylinder's lid region count half: a carton's gable or a bottle's cap is
+// not the flat top the solid assumes, yet it is no evidence against the solid.
+// Sides and tops are averaged with equal weight when both are seen: a wide, low box's
+// top is a cylinder's cap too, and only its flat sides tell them apart.
+void evaluate(Candidate& c, const Samples& s) {
+  double score[2] = {0, 0}, covered[2] = {0, 0}, count[2] = {0, 0}, sq = 0;
+  int explained = 0;
+  for (size_t i = 0; i < s.p.size(); ++i) {
+    const int g = s.has_normals && std::abs(s.up[i]) > 0.6 ? 1 : 0;
+    count[g] += 1;
+    const double d = distance(c, s.p[i]);
+    const double e = d / s.tol[i];
+    if (e < 1) {
+      score[g] += 1 - e * e;
+      sq += d * d;
+      covered[g] += 1;
+      ++explained;
+    } else if (in_lid(c, s.p[i])) {
+      score[g] += 0.5;
+      covered[g] += 0.5;
+    }
+  }
+  const double n = std::max<size_t>(s.p.size(), 1);
+  if (count[0] >= 0.1 * n && count[1] >= 0.1 * n) {
+    c.score = 0.5 * (score[0] / count[0] + score[1] / count[1]);
+    c.coverage = 0.5 * (covered[0] / count[0] + covered[1] / count[1]);
+  } else {
+    c.score = (score[0] + score[1]) / n;
+    c.coverage = (covered[0] + covered[1]) / n;
+  }
+  c.rms = explained > 0 ? std::sqrt(sq / explained) : 0;
+}
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[k];
+}
+
+// Levenberg-Marquardt on a few parameters with a numeric Jacobian and Huber weights.
+// `residual(params, i)` gives point i's signed residual.
+template <int N, typename F>
+void refine(std::array<double, N>& x, int count, const std::vector<double>& scale, F residual,
+            int iterations = 8) {
+  if (count < N + 1) return;
+  double lambda = 1e-3;
+  auto cost = [&](const std::array<double, N>& p) {
+    double c = 0;
+    for (int i = 0; i < count; ++i) {
+      const double r = residual(p, i), k = 2.0 * scale[i];
+      c += std::abs(r) < k ? r * r : 2 * k * std::abs(r) - k * k;
+    }
+    return c;
+  };
+  double current = cost(x);
+  for (int it = 0; it < iterations; ++it) {
+    Eigen::Matrix<double, N, N> jtj = Eigen::Matrix<double, N, N>::Zero();
+    Eigen::Matrix<double, N, 1> jtr = Eigen::Matrix<double, N, 1>::Zero();
+    for (int i = 0; i < count; ++i) {
+      const double r = residual(x, i), k = 2.0 * scale[i];
+      const double w = std::abs(r) < k ? 1.0 : k / std::abs(r);
+      Eigen::Matrix<double, N, 1> g;
+      for (int j = 0; j < N; ++j) {
+        std::array<double, N> xp = x;
+        const double step = 1e-6 * std::max(1.0, std::abs(x[j]));
+        xp[j] += step;
+        g[j] = (residual(xp, i) - r) / step;
+      }
+      jtj += w * g * g.transpose();
+      jtr += w * g * r;
+    }
+    bool improved = false;
+    for (int attempt = 0; attempt < 6 && !improved; ++attempt) {
+      Eigen::Matrix<double, N, N> a = jtj;
+      for (int j = 0; j < N; ++j) a(j, j) += lambda * (jtj(j, j) + 1e-12);
+      const Eigen::Matrix<double, N, 1> delta = a.ldlt().solve(-jtr);
+      std::array<double, N> next = x;
+      for (int j = 0; j < N; ++j) next[j] += delta[j];
+      const double c = cost(next);
+      if (std::isfinite(c) && c < current) {
+        x = next;
+        current = c;
+        lambda = std::max(lambda * 0.3, 1e-7);
+        improved = true;
+      } else {
+        lambda *= 10;
+      }
+    }
+    if (!improved) break;
+  }
+}
+
+struct Circle {
+  double x = 0, y = 0, r = 0;
+  bool ok = false;
+};
+
+// Algebraic (Kasa) circle through weighted 2D points: a starting point for refine().
+Circle kasa_circle(const std::vector<std::array<double, 2>>& q) {
+  if (q.size() < 3) return {};
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (const auto& p : q) {
+    const Eigen::Vector3d row(p[0], p[1], 1.0);
+    a += row * row.transpose();
+    b += row * (p[0] * p[0] + p[1] * p[1]);
+  }
+  const Eigen::Vector3d s = a.ldlt().solve(b);
+  const double cx = s[0] / 2, cy = s[1] / 2, r2 = s[2] + cx * cx + cy * cy;
+  if (!std::isfinite(r2) || r2 <= 0) return {};
+  return {cx, cy, std::sqrt(r2), true};
+}
+
+Circle circle_through(const std::array<double, 2>& p1, const std::array<double, 2>& p2,
+                      const std::array<double, 2>& p3) {
+  const double ax = p2[0] - p1[0], ay = p2[1] - p1[1], bx = p3[0] - p1[0], by = p3[1] - p1[1];
+  const double det = 2 * (ax * by - ay * bx);
+  if (std::abs(det) < 1e-12) return {};
+  const double a2 = ax * ax + ay * ay, b2 = bx * bx + by * by;
+  const double ux = (by * a2 - ay * b2) / det, uy = (ax * b2 - bx * a2) / det;
+  return {p1[0] + ux, p1[1] + uy, std::hypot(ux, uy), true};
+}
+
+// RANSAC circle (seeded) followed by a geometric refinement on its inliers; handles,
+// caps and neighbours' stray points are outliers.
+Circle robust_circle(const std::vector<std::array<double, 2>>& q, const std::vector<double>& tol,
+                     const ShapeRecognizerParams& params, std::mt19937_64& rng) {
+  if (q.size() < 8) return {};
+  std::uniform_int_distribution<size_t> pick(0, q.size() - 1);
+  Circle best;
+  double best_score = -1;
+  for (int it = 0; it < 60; ++it) {
+    const Circle c = circle_through(q[pick(rng)], q[pick(rng)], q[pick(rng)]);
+    if (!c.ok || c.r < params.min_radius_m || c.r > params.max_radius_m) continue;
+    double score = 0;
+    for (size_t i = 0; i < q.size(); i += 3) {
+      const double e = (std::hypot(q[i][0] - c.x, q[i][1] - c.y) - c.r) / tol[i];
+      if (std::abs(e) < 1) score += 1 - e * e;
+    }
+    if (score > best_score) {
+      best_score = score;
+      best = c;
+    }
+  }
+  const Circle k = kasa_circle(q);
+  if (k.ok && k.r > params.min_radius_m && k.r < params.max_radius_m) {
+    double score = 0;
+    for (size_t i = 0; i < q.size(); i += 2) {
+      const double e = (std::hypot(q[i][0] - k.x, q[i][1] - k.y) - k.r) / tol[i];
+      if (std::abs(e) < 1) score += 1 - e * e;
+    }
+    if (score > best_score) best = k;
+  }
+  if (!best.ok) return {};
+  std::vector<std::array<double, 2>> in;
+  std::vector<double> in_tol;
+  for (size_t i = 0; i < q.size(); ++i)
+    if (std::abs(std::hypot(q[i][0] - best.x, q[i][1] - best.y) - best.r) < 2.5 * tol[i]) {
+      in.push_back(q[i]);
+      in_tol.push_back(tol[i]);
+    }
+  std::array<double, 3> x{best.x, best.y, best.r};
+  refine<3>(x, static_cast<int>(in.size()), in_tol, [&](const std::array<double, 3>& p, int i) {
+    return std::hypot(in[i][0] - p[0], in[i][1] - p[1]) - p[2];
+  });
+  return {x[0], x[1], std::abs(x[2]), true};
+}
+
+// Upright cylinder: circle of the side points' footprint; height from the plane (or
+// `base`) to where the side stops fitting or the cap lies.
+Candidate fit_cylinder(const Samples& s, const std::vector<int>& subset, double base,
+                       const ShapeRecognizerParams& params, std::mt19937_64& rng) {
+  Candidate c;
+  c.model = Model::cylinder;
+  std::vector<std::array<double, 2>> q;
+  std::vector<double> tol;
+  for (int i : subset) {
+    if (s.has_normals && std::abs(s.up[i]) > 0.7) continue;
+    q.push_back({s.p[i].a, s.p[i].b});
+    tol.push_back(s.tol[i]);
+  }
+  if (q.size() < 12) {
+    q.clear();
+    tol.clear();
+    for (int i : subset) {
+      q.push_back({s.p[i].a, s.p[i].b});
+      tol.push_back(s.tol[i]);
+    }
+  }
+  const Circle circle = robust_circle(q, tol, params, rng);
+  if (!circle.ok) return c;
+  c.ca = circle.x;
+  c.cb = circle.y;
+  c.r0 = c.r1 = circle.r;
+  c.h0 = base;
+  // Top: highest side inliers or the cap (points inside the circle facing up).
+  std::vector<double> side_h, cap_h, all_h;
+  for (int i : subset) {
+    const double rho = std::hypot(s.p[i].a - c.ca, s.p[i].b - c.cb);
+    all_h.push_back(s.p[i].h);
+    if (std::abs(rho - c.r0) < s.tol[i]) side_h.push_back(s.p[i].h);
+    if (rho < c.r0 - s.tol[i] && (!s.has_normals || s.up[i] > 0.8)) cap_h.push_back(s.p[i].h);
+  }
+  double top = side_h.size() > 5 ? quantile(side_h, 0.98) : quantile(all_h, 0.98);
+  if (cap_h.size() > 10) top = std::max(top, quantile(cap_h, 0.5));
+  c.h1 = top;
+  c.valid = c.h1 - c.h0 > 0.005 && c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m;
+  return c;
+}
+
+// Upright cone (or frustum): radius linear in height around a common axis, started
+// from the cylinder fit. Valid only when it narrows (or widens) clearly.
+Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candidate& cyl,
+                   const ShapeRecognizerParams& params) {
+  Candidate c = cyl;
+  c.model = Model::cone;
+  c.valid = false;
+  if (!cyl.valid) return c;
+  // A cone's side runs to the top of the points it is fitted to.
+  {
+    std::vector<double> hs;
+    for (int i : subset) hs.push_back(s.p[i].h);
+    c.h1 = std::max(cyl.h1, quantile(hs, 0.99));
+  }
+  const Candidate span_ref = c;
+  std::vector<int> idx;
+  std::vector<double> tol;
+  for (int i : subset)
+    if ((!s.has_normals || std::abs(s.up[i]) < 0.9) && s.p[i].h > span_ref.h0 &&
+        s.p[i].h < span_ref.h1) {
+      idx.push_back(i);
+      tol.push_back(s.tol[i]);
+    }
+  if (idx.size() < 20) return c;
+  const double span = std::max(span_ref.h1 - span_ref.h0, 1e-3);
+  // Start from a straight line through the radius profile (robust to a bad cylinder).
+  double sh = 0, shh = 0, sr = 0, srh = 0;
+  for (int i : idx) {
+    const double t = (s.p[i].h - span_ref.h0) / span;
+    const double rho = std::hypot(s.p[i].a - cyl.ca, s.p[i].b - cyl.cb);
+    sh += t;
+    shh += t * t;
+    sr += rho;
+    srh += rho * t;
+  }
+  const double n = static_cast<double>(idx.size());
+  const double den = n * shh - sh * sh;
+  double k = std::abs(den) > 1e-12 ? (n * srh - sh * sr) / den : 0.0;
+  double r0 = (sr - k * sh) / n;
+  std::array<double, 4> x{cyl.ca, cyl.cb, r0, r0 + k};
+  refine<4>(x, static_cast<int>(idx.size()), tol, [&](const std::array<double, 4>& p, int j) {
+    const Local& q = s.p[idx[j]];
+    const double t = (q.h - span_ref.h0) / span;
+    const double slope = (p[3] - p[2]) / span;
+    return (std::hypot(q.a - p[0], q.b - p[1]) - (p[2] + (p[3] - p[2]) * t)) /
+           std::sqrt(1 + slope * slope);
+  });
+  c.ca = x[0];
+  c.cb = x[1];
+  c.r0 = std::max(0.0, x[2]);
+  c.r1 = std::max(0.0, x[3]);
+  // The tip of a cone is too thin to see: when the side narrows to a small top,
+  // extend it to the apex where the fitted radius reaches zero.
+  if (c.r1 < 0.35 * c.r0 && c.r0 > c.r1) {
+    c.h1 = c.h0 + (c.h1 - c.h0) * c.r0 / (c.r0 - c.r1);
+    c.r1 = 0;
+  }
+  const double wide = std::max(c.r0, c.r1), narrow = std::min(c.r0, c.r1);
+  c.valid = wide >= params.min_radius_m && wide <= params.max_radius_m &&
+            wide - narrow >= params.min_cone_taper * wide && wide - narrow > 0.008;
+  return c;
+}
+
+Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
+  Candidate c;
+  c.model = Model::sphere;
+  const int n = static_cast<int>(s.p.size());
+  if (n < 12) return c;
+  // Algebraic start: |p|^2 = 2 c.p + k.
+  Eigen::Matrix4d a = Eigen::Matrix4d::Zero();
+  Eigen::Vector4d b = Eigen::Vector4d::Zero();
+  for (const Local& p : s.p) {
+    const Eigen::Vector4d row(p.a, p.b, p.h, 1.0);
+    a += row * row.transpose();
+    b += row * (p.a * p.a + p.b * p.b + p.h * p.h);
+  }
+  const Eigen::Vector4d x0 = a.ldlt().solve(b);
+  const double ca = x0[0] / 2, cb = x0[1] / 2, hc = x0[2] / 2;
+  const double r2 = x0[3] + ca * ca + cb * cb + hc * hc;
+  if (!std::isfinite(r2) || r2 <= 0) return c;
+  std::array<double, 4> x{ca, cb, hc, std::sqrt(r2)};
+  refine<4>(x, n, s.tol, [&](const std::array<double, 4>& p, int i) {
+    const Local& q = s.p[i];
+    return std::sqrt((q.a - p[0]) * (q.a - p[0]) + (q.b - p[1]) * (q.b - p[1]) +
+                     (q.h - p[2]) * (q.h - p[2])) -
+           p[3];
+  });
+  c.ca = x[0];
+  c.cb = x[1];
+  c.hc = x[2];
+  c.r0 = std::abs(x[3]);
+  // A resting sphere's centre is one radius above the plane.
+  c.valid = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m &&
+            std::abs(c.hc - c.r0) < std::max(0.012, 0.2 * c.r0);
+  return c;
+}
+
+// Torus lying flat on the plane: tube centre one minor radius above it.
+Candidate fit_torus(const Samples& s, const Candidate& cyl, const ShapeRecognizerParams& params) {
+  Candidate c;
+  c.model = Model::torus;
+  const int n = static_cast<int>(s.p.size());
+  if (n < 20 || !cyl.valid) return c;
+  std::vector<double> rho;
+  for (const Local& p : s.p) rho.push_back(std::hypot(p.a - cyl.ca, p.b - cyl.cb));
+  const double minor0 = std::max(0.005, s.top / 2);
+  std::array<double, 4> x{cyl.ca, cyl.cb, std::max(quantile(rho, 0.5), minor0 * 1.5), minor0};
+  refine<4>(x, n, s.tol, [&](const std::array<double, 4>& p, int i) {
+    const Local& q = s.p[i];
+    const double r = std::hypot(q.a - p[0], q.b - p[1]);
+    return std::hypot(r - p[2], q.h - p[3]) - std::abs(p[3]);
+  });
+  c.ca = x[0];
+  c.cb = x[1];
+  c.major = std::abs(x[2]);
+  c.minor = std::abs(x[3]);
+  c.hc = c.minor;
+  c.valid = c.minor >= 0.004 && c.major > 1.2 * c.minor && c.major + c.minor <= params.max_radius_m &&
+            c.major >= params.min_radius_m;
+  return c;
+}
+
+// Convex hull of 2D points (monotone chain), counter-clockwise.
+std::vector<std::array<double, 2>> hull_2d(std::vector<std::array<double, 2>> pts) {
+  std::sort(pts.begin(), pts.end());
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  if (pts.size() < 3) return pts;
+  std::vector<std::array<double, 2>> h(2 * pts.size());
+  auto turn = [](const std::array<double, 2>& o, const std::array<double, 2>& a,
+                 const std::array<double, 2>& b) {
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+  };
+  size_t k = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && turn(h[k - 2], h[k - 1], pts[i]) <= 0) --k;
+    h[k++] = pts[i];
+  }
+  for (size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && turn(h[k - 2], h[k - 1], pts[i - 1]) <= 0) --k;
+    h[k++] = pts[i - 1];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+// Upright box: orientation of the minimum-area rectangle around the footprint, then
+// robust extents along its sides (the top face spans the footprint when seen from above).
+Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
+  Candidate c;
+  c.model = Model::box;
+  if (s.p.size() < 12) return c;
+  std::vector<std::array<double, 2>> q;
+  for (const Local& p : s.p) q.push_back({p.a, p.b});
+  const auto hull = hull_2d(q);
+  if (hull.size() < 3) return c;
+  double best_area = 1e18, best_theta = 0;
+  for (size_t i = 0; i < hull.size(); ++i) {
+    const auto& p1 = hull[i];
+    const auto& p2 = hull[(i + 1) % hull.size()];
+    const double theta = std::atan2(p2[1] - p1[1], p2[0] - p1[0]);
+    const double cs = std::cos(theta), sn = std::sin(theta);
+    double x0 = 1e18, x1 = -1e18, y0 = 1e18, y1 = -1e18;
+    for (const auto& p : hull) {
+      const double x = cs * p[0] + sn * p[1], y = -sn * p[0] + cs * p[1];
+      x0 = std::min(x0, x);
+      x1 = std::max(x1, x);
+      y0 = std::min(y0, y);
+      y1 = std::max(y1, y);
+    }
+    if ((x1 - x0) * (y1 - y0) < best_area) {
+      best_area = (x1 - x0) * (y1 - y0);
+      best_theta = theta;
+    }
+  }
+  // With normals, the side faces give the orientation (normal azimuths modulo 90
+  // degrees, averaged as 4x angles) and, where the top overhangs (open flaps) or
+  // stray points widen the footprint, the extents (two visible faces span it).
+  std::vector<int> sides;
+  if (s.has_normals) {
+    double c4 = 0, s4 = 0;
+    for (size_t i = 0; i < s.p.size(); ++i) {
+      if (std::abs(s.up[i]) > 0.4) continue;
+      const double phi = std::atan2(s.nb[i], s.na[i]);
+      c4 += std::cos(4 * phi);
+      s4 += std::sin(4 * phi);
+      sides.push_back(static_cast<int>(i));
+    }
+    if (sides.size() >= 30 && std::hypot(c4, s4) > 0.3 * sides.size())
+      best_theta = std::atan2(s4, c4) / 4;
+    else
+      sides.clear();
+  }
+  const double cs = std::cos(best_theta), sn = std::sin(best_theta);
+  std::vector<double> xs, ys, sx, sy;
+  for (const Local& p : s.p) {
+    xs.push_back(cs * p.a + sn * p.b);
+    ys.push_back(-sn * p.a + cs * p.b);
+  }
+  for (int i : sides) {
+    sx.push_back(xs[i]);
+    sy.push_back(ys[i]);
+  }
+  double x0 = quantile(xs, 0.005), x1 = quantile(xs, 0.995);
+  double y0 = quantile(ys, 0.005), y1 = quantile(ys, 0.995);
+  if (!sides.empty()) {
+    const double sx0 = quantile(sx, 0.01), sx1 = quantile(sx, 0.99);
+    const double sy0 = quantile(sy, 0.01), sy1 = quantile(sy, 0.99);
+    // Trust the faces where something sticks out beyond them (flaps, a neighbour's
+    // stray points), provided they span most of the footprint.
+    if (sx1 - sx0 > 0.5 * (x1 - x0) && (x1 - x0) - (sx1 - sx0) > 0.015) {
+      x0 = sx0;
+      x1 = sx1;
+    }
+    if (sy1 - sy0 > 0.5 * (y1 - y0) && (y1 - y0) - (sy1 - sy0) > 0.015) {
+      y0 = sy0;
+      y1 = sy1;
+    }
+  }
+  const double xm = (x0 + x1) / 2, ym = (y0 + y1) / 2;
+  c.theta = best_theta;
+  c.ca = cs * xm - sn * ym;
+  c.cb = sn * xm + cs * ym;
+  c.ex = (x1 - x0) / 2;
+  c.ey = (y1 - y0) / 2;
+  if (c.ey > c.ex) {  // x along the longer side
+    std::swap(c.ex, c.ey);
+    c.theta += kPi / 2;
+  }
+  c.h0 = 0;
+  c.h1 = s.top;
+  c.valid = c.ey >= params.min_radius_m / 2 && c.ex <= params.max_radius_m * 2 && c.h1 > 0.005;
+  return c;
+}
+
+// Cylinder lying on its side: its axis runs along the footprint's long side, and the
+// cross-section is a circle touching the plane.
+Candidate fit_lying_cylinder(const Samples& s, const Candidate& box,
+                             const ShapeRecognizerParams& params) {
+  Candidate c;
+  c.model = Model::lying_cylinder;
+  if (!box.valid || s.p.size() < 20) return c;
+  const double cs = std::cos(box.theta), sn = std::sin(box.theta);
+  std::vector<double> w(s.p.size()), tol = s.tol;
+  for (size_t i = 0; i < s.p.size(); ++i)
+    w[i] = -sn * (s.p[i].a - box.ca) + cs * (s.p[i].b - box.cb);
+  std::array<double, 2> x{0.0, std::max(0.005, s.top / 2)};
+  refine<2>(x, static_cast<int>(s.p.size()), tol, [&](const std::array<double, 2>& p, int i) {
+    return std::hypot(w[i] - p[0], s.p[i].h - std::abs(p[1])) - std::abs(p[1]);
+  });
+  c.theta = box.theta;
+  c.ca = box.ca - sn * x[0];
+  c.cb = box.cb + cs * x[0];
+  c.r0 = c.r1 = std::abs(x[1]);
+  c.hc = c.r0;
+  c.ex = box.ex;
+  c.valid = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m && c.ex > c.r0 * 0.5;
+  return c;
+}
+
+// A box in any orientation (a laptop lid leaning back, a book on its edge): axes
+// from the points' principal directions, extents from robust quantiles. Tried only
+// when no shape standing on the plane explains the object.
+ShapeFit fit_oriented_box(const Samples& s, const ShapeRecognizerParams& params) {
+  ShapeFit out;
+  const size_t n = s.xyz.size();
+  if (n < 30) return out;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Vec3& p : s.xyz) mean += Eigen::Vector3d(p.x, p.y, p.z);
+  mean /= static_cast<double>(n);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const Vec3& p : s.xyz) {
+    const Eigen::Vector3d q = Eigen::Vector3d(p.x, p.y, p.z) - mean;
+    cov += q * q.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+  Vec3 axes[3];
+  double lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d e = es.eigenvectors().col(2 - k);  // largest first
+    axes[k] = normalized(Vec3{e.x(), e.y(), e.z()});
+    std::vector<double> t;
+    for (const Vec3& p : s.xyz) t.push_back(dot(p, axes[k]));
+    lo[k] = quantile(t, 0.01);
+    hi[k] = quantile(t, 0.99);
+  }
+  double half[3];
+  Vec3 center;
+  for (int k = 0; k < 3; ++k) {
+    half[k] = std::max((hi[k] - lo[k]) / 2, 0.0025);
+    center = center + axes[k] * ((hi[k] + lo[k]) / 2);
+  }
+  double covered = 0, sq = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3 d = s.xyz[i] - center;
+    double o[3], outside = 0, inside = 1e9;
+    for (int k = 0; k < 3; ++k) {
+      o[k] = std::abs(dot(d, axes[k])) - half[k];
+      outside += std::pow(std::max(o[k], 0.0), 2);
+      inside = std::min(inside, -o[k]);
+    }
+    const double dist = outside > 0 ? std::sqrt(outside) : inside;
+    if (dist < s.tol[i]) {
+      covered += 1;
+      sq += dist * dist;
+    }
+  }
+  if (2 * half[1] < params.min_radius_m || 2 * half[0] > 2 * params.max_radius_m) return out;
+  out.primitive.kind = ShapeKind::box;
+  out.primitive.dimensions_m = {2 * half[0], 2 * half[1], 2 * half[2]};
+  out.primitive.center = center;
+  out.primitive.axis = axes[2];
+  out.x_axis = axes[0];
+  out.coverage = covered / static_cast<double>(n);
+  out.rms_m = covered > 0 ? std::sqrt(sq / covered) : 0;
+  out.primitive.fit = out.coverage;
+  return out;
+}
+
+ShapeFit to_fit(const Candidate& c, const PlaneFrame& f) {
+  ShapeFit out;
+  PhysicalPrimitive& p = out.primitive;
+  const Vec3 up = f.n;
+  out.x_axis = f.u;
+  switch (c.model) {
+    case Model::sphere:
+      p.kind = ShapeKind::sphere;
+      p.dimensions_m = {c.r0};
+      p.center = f.to_world(c.ca, c.cb, c.hc);
+      p.axis = up;
+      break;
+    case Model::cylinder:
+      p.kind = ShapeKind::cylinder;
+      p.dimensions_m = {c.r0, c.h1 - c.h0};
+      p.center = f.to_world(c.ca, c.cb, (c.h0 + c.h1) / 2);
+      p.axis = up;
+      break;
+    case Model::cone: {
+      // The axis points from the base (wide end) to the apex.
+      p.kind = ShapeKind::cone;
+      const bool narrowing = c.r1 <= c.r0;
+      p.dimensions_m = {std::max(c.r0, c.r1), c.h1 - c.h0};
+      p.center = f.to_world(c.ca, c.cb, (c.h0 + c.h1) / 2);
+      p.axis = narrowing ? up : up * -1.0;
+      break;
+    }
+    case Model::torus:
+      p.kind = ShapeKind::torus;
+      p.dimensions_m = {c.major, c.minor};
+      p.center = f.to_world(c.ca, c.cb, c.hc);
+      p.axis = up;
+      break;
+    case Model::box:
+      p.kind = ShapeKind::box;
+      p.dimensions_m = {2 * c.ex, 2 * c.ey, c.h1 - c.h0};
+      p.center = f.to_world(c.ca, c.cb, (c.h0 + c.h1) / 2);
+      p.axis = up;
+      out.x_axis = f.dir(std::cos(c.theta), std::sin(c.theta), 0);
+      break;
+    case Model::lying_cylinder:
+      p.kind = ShapeKind::cylinder;
+      p.dimensions_m = {c.r0, 2 * c.ex};
+      p.center = f.to_world(c.ca, c.cb, c.hc);
+      p.axis = f.dir(std::cos(c.theta), std::sin(c.theta), 0);
+      out.x_axis = up;
+      break;
+  }
+  p.fit = c.coverage;
+  out.rms_m = c.rms;
+  out.coverage = c.coverage;
+  return out;
+}
+
+// Subsample deterministically: a seeded shuffle keeps the spatial spread.
+std::vector<int> pick_indices(size_t n, int max_points, std::mt19937_64& rng) {
+  std::vector<int> idx(n);
+  std::iota(idx.begin(), idx.end(), 0);
+  if (static_cast<int>(n) > max_points) {
+    std::shuffle(idx.begin(), idx.end(), rng);
+    idx.resize(max_points);
+    std::sort(idx.begin(), idx.end());
+  }
+  return idx;
+}
+
+}  // namespace
+
+ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
+                                   const std::vector<Vec3>& normals, const Plane& support,
+                                   const ShapeRecognizerParams& params) {
+  ObjectShape out;
+  if (points.size() < 12) return out;
+  std::mt19937_64 rng(params.seed);
+  const PlaneFrame frame = make_frame(support);
+  Samples s;
+  s.has_normals = normals.size() == points.size();
+  for (int i : pick_indices(points.size(), params.max_fit_points, rng)) {
+    const Vec3& p = points[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
+    s.p.push_back(frame.to_local(p));
+    s.xyz.push_back(p);
+    s.up.push_back(s.has_normals ? dot(normals[i], frame.n) : 0.0);
+    s.na.push_back(s.has_normals ? dot(normals[i], frame.u) : 0.0);
+    s.nb.push_back(s.has_normals ? dot(normals[i], frame.v) : 0.0);
+    s.tol.push_back(std::max(params.min_tolerance_m,
+                             params.noise_factor * kinect_sigma_z(std::abs(p.z))));
+  }
+  if (s.p.size() < 12) return out;
+  std::vector<double> hs;
+  for (const Local& p : s.p) hs.push_back(p.h);
+  s.top = quantile(hs, 0.99);
+
+  std::vector<int> all(s.p.size());
+  std::iota(all.begin(), all.end(), 0);
+  std::vector<Candidate> cands;
+  // The box fit's footprint gates the shapes whose proportions cannot match it
+  // (a torus is flat, a sphere as tall as it is wide): cheaper and fewer false fits.
+  const Candidate box = fit_box(s, params);
+  const double width = box.valid ? 2 * box.ex : 0, depth = box.valid ? 2 * box.ey : 0;
+  const Candidate cyl = fit_cylinder(s, all, 0.0, params, rng);
+  cands.push_back(cyl);
+  cands.push_back(fit_cone(s, all, cyl, params));
+  if (!box.valid || (s.top > 0.5 * width && s.top < 1.6 * width))
+    cands.push_back(fit_sphere(s, params));
+  if (!box.valid || s.top < 0.55 * width) cands.push_back(fit_torus(s, cyl, params));
+  cands.push_back(box);
+  if (box.valid && width > 1.2 * depth && s.top < 1.4 * depth)
+    cands.push_back(fit_lying_cylinder(s, box, params));
+
+  // Flat sides show as side normals bunched into at most two azimuths 90 degrees
+  // apart (|mean of 4x azimuth| near 1); a round side spreads them (near 0).
+  double flatness = -1;
+  if (s.has_normals) {
+    double c4 = 0, s4 = 0;
+    int n = 0;
+    for (size_t i = 0; i < s.p.size(); ++i) {
+      if (std::abs(s.up[i]) > 0.4) continue;
+      const double phi = std::atan2(s.nb[i], s.na[i]);
+      c4 += std::cos(4 * phi);
+      s4 += std::sin(4 * phi);
+      ++n;
+    }
+    if (n >= 30) flatness = std::hypot(c4, s4) / n;
+  }
+  int best = -1;
+  double best_score = -1;
+  for (size_t i = 0; i < cands.size(); ++i) {
+    Candidate& c = cands[i];
+    // A radius far beyond the footprint is a flat face read as a huge arc.
+    if (box.valid && (c.model == Model::cylinder || c.model == Model::cone) &&
+        std::max(c.r0, c.r1) > std::max(width, 0.03))
+      c.valid = false;
+    if (!c.valid) continue;
+    evaluate(c, s);
+    out.candidates.push_back(to_fit(c, frame));
+    // Cones and tori have more freedom than the shapes they generalise: they must
+    // explain clearly more to win.
+    const double margin = (c.model == Model::cone || c.model == Model::torus ||
+                           c.model == Model::lying_cylinder)
+                              ? params.complexity_margin
+                              : 0.0;
+    double score = c.score - margin;
+    const bool round = c.model == Model::cylinder || c.model == Model::cone;
+    if (flatness > 0.6 && round) score -= params.side_shape_penalty;
+    if (flatness >= 0 && flatness < 0.3 && c.model == Model::box) score -= params.side_shape_penalty;
+    if (score > best_score) {
+      best_score = score;
+      best = static_cast<int>(i);
+    }
+  }
+  // Secondary primitive: the points above an upright body that it does not explain
+  // (a bottle's shoulder and neck), fitted as a cone or cylinder over that band.
+  auto secondary = [&](const Candidate& body) -> std::optional<ShapeFit> {
+    if (body.model != Model::cylinder && body.model != Model::box) return std::nullopt;
+    std::vector<int> rest;
+    for (size_t i = 0; i < s.p.size(); ++i)
+      if (distance(body, s.p[i]) > s.tol[i] && s.p[i].h > body.h1 - 2 * s.tol[i])
+        rest.push_back(static_cast<int>(i));
+    const double share = static_cast<double>(rest.size()) / s.p.size();
+    if (share < params.min_secondary_share || rest.size() < 30) return std::nullopt;
+    std::vector<double> rh;
+    for (int i : rest) rh.push_back(s.p[i].h);
+    const double base = quantile(rh, 0.02);
+    Candidate neck = fit_cylinder(s, rest, base, params, rng);
+    Candidate cone = fit_cone(s, rest, neck, params);
+    Samples sub;
+    sub.has_normals = s.has_normals;
+    for (int i : rest) {
+      sub.p.push_back(s.p[i]);
+      sub.tol.push_back(s.tol[i]);
+      sub.up.push_back(s.up[i]);
+    }
+    Candidate* pick = nullptr;
+    if (neck.valid) {
+      evaluate(neck, sub);
+      pick = &neck;
+    }
+    if (cone.valid) {
+      evaluate(cone, sub);
+      if (!pick || cone.score - params.complexity_margin > pick->score) pick = &cone;
+    }
+    if (!pick || pick->coverage < 0.6) return std::nullopt;
+    // A neck is a real part: taller than a lid's rim and no wider than the body.
+    const double body_r = body.model == Model::cylinder ? body.r0 : std::max(body.ex, body.ey);
+    if (pick->h1 - pick->h0 < 0.015 || std::max(pick->r0, pick->r1) > 1.05 * body_r)
+      return std::nullopt;
+    ShapeFit fit = to_fit(*pick, frame);
+    fit.coverage = pick->coverage * share;
+    fit.primitive.fit = fit.coverage;
+    return fit;
+  };
+
+  std::optional<ShapeFit> second;
+  // A body cylinder plus a neck can explain a bottle better than one cone through
+  // both: prefer the pair when it covers clearly more.
+  if (best >= 0 && cands[best].model == Model::cone && cands[0].valid &&
+      cands[0].model == Model::cylinder) {
+    std::optional<ShapeFit> neck = secondary(cands[0]);
+    if (neck && cands[0].coverage + neck->coverage > cands[best].coverage + 2 * params.complexity_margin) {
+      best = 0;
+      second = neck;
+    }
+  }
+  if (best < 0 || cands[best].coverage < params.min_coverage) {
+    const ShapeFit tilted = fit_oriented_box(s, params);
+    if (!tilted.primitive.dimensions_m.empty()) {
+      out.candidates.push_back(tilted);
+      if (tilted.coverage >= params.min_coverage) {
+        out.primitives.push_back(tilted);
+        out.fit = tilted.coverage;
+      }
+    }
+    return out;
+  }
+  const Candidate& salient = cands[best];
+  out.primitives.push_back(to_fit(salient, frame));
+  out.fit = salient.coverage;
+  if (!second) second = secondary(salient);
+  if (second) out.primitives.push_back(*second);
+  return out;
+}
+
+}  // namespace annex

@@ -1,0 +1,229 @@
+// Drawing the scan overlay: plain raster code (lines, quads of stb_easy_font's
+// glyphs) on an RGB buffer, then the shared PNG writer.
+#include "annex/runtime/scan_overlay.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "annex/formats/file_io.h"
+#include "annex/formats/png_io.h"
+
+#include <stb/stb_easy_font.h>
+
+namespace annex {
+namespace {
+
+using Rgb = std::array<std::uint8_t, 3>;
+
+constexpr Rgb kPalette[] = {{255, 80, 80},  {80, 200, 255}, {120, 255, 100}, {255, 200, 40},
+                            {220, 100, 255}, {255, 140, 200}, {60, 255, 220}, {255, 255, 255}};
+
+struct Canvas {
+  RgbImage& img;
+  void put(int x, int y, Rgb c) {
+    if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
+    std::uint8_t* p = &img.rgb[(static_cast<size_t>(y) * img.width + x) * 3];
+    p[0] = c[0];
+    p[1] = c[1];
+    p[2] = c[2];
+  }
+  void line(double x0, double y0, double x1, double y1, Rgb c, int thick = 1) {
+    if (!std::isfinite(x0) || !std::isfinite(y0) || !std::isfinite(x1) || !std::isfinite(y1))
+      return;
+    const double len = std::max(std::abs(x1 - x0), std::abs(y1 - y0));
+    if (len > 4 * (img.width + img.height)) return;  // projected from behind the camera
+    const int steps = std::max(1, static_cast<int>(len));
+    for (int i = 0; i <= steps; ++i) {
+      const double t = static_cast<double>(i) / steps;
+      const int x = static_cast<int>(std::lround(x0 + (x1 - x0) * t));
+      const int y = static_cast<int>(std::lround(y0 + (y1 - y0) * t));
+      for (int dy = 0; dy < thick; ++dy)
+        for (int dx = 0; dx < thick; ++dx) put(x + dx, y + dy, c);
+    }
+  }
+  void fill(int x0, int y0, int x1, int y1, Rgb c) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) put(x, y, c);
+  }
+  // stb_easy_font emits quads; `scale` enlarges its 7-pixel-high glyphs.
+  void text(int x, int y, const std::string& s, Rgb c, int scale = 2) {
+    std::vector<char> buf(s.size() * 300 + 64);
+    std::string copy = s;
+    const int quads = stb_easy_font_print(0, 0, copy.data(), nullptr, buf.data(),
+                                          static_cast<int>(buf.size()));
+    const int w = stb_easy_font_width(copy.data()) * scale;
+    fill(x - 2, y - 2, x + w + 2, y + 7 * scale + 2, {0, 0, 0});
+    for (int q = 0; q < quads; ++q) {
+      const float* v0 = reinterpret_cast<const float*>(buf.data() + q * 4 * 16);
+      const float* v2 = reinterpret_cast<const float*>(buf.data() + (q * 4 + 2) * 16);
+      fill(x + static_cast<int>(v0[0] * scale), y + static_cast<int>(v0[1] * scale),
+           x + static_cast<int>(v2[0] * scale), y + static_cast<int>(v2[1] * scale), c);
+    }
+  }
+};
+
+struct Projector {
+  double fx, fy, cx, cy;
+  std::array<double, 2> operator()(Vec3 p) const {
+    if (p.z < 0.05) return {NAN, NAN};
+    return {fx * p.x / p.z + cx, fy * p.y / p.z + cy};
+  }
+};
+
+// An organized cloud carries its own intrinsics: each pixel's u = fx x/z + cx. A
+// least-squares line through a sample of pixels recovers them, so outlines land on
+// the image even for sensors whose intrinsics differ from the Kinect defaults.
+Projector estimate_projection(const Frame& f, Projector fallback) {
+  double su[5] = {0, 0, 0, 0, 0}, sv[5] = {0, 0, 0, 0, 0};  // n, sum t, sum t^2, sum u, sum t u
+  const size_t step = std::max<size_t>(1, f.points.size() / 4000);
+  for (size_t i = 0; i < f.points.size(); i += step) {
+    const PointXYZRGB& p = f.points[i];
+    if (!std::isfinite(p.z) || p.z <= 0 || !std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+    const double u = static_cast<double>(i % f.width), v = static_cast<double>(i / f.width);
+    const double tx = p.x / p.z, ty = p.y / p.z;
+    su[0] += 1, su[1] += tx, su[2] += tx * tx, su[3] += u, su[4] += tx * u;
+    sv[0] += 1, sv[1] += ty, sv[2] += ty * ty, sv[3] += v, sv[4] += ty * v;
+  }
+  auto line = [](const double* s, double& slope, double& offset) {
+    const double den = s[0] * s[2] - s[1] * s[1];
+    if (s[0] < 100 || std::abs(den) < 1e-12) return false;
+    slope = (s[0] * s[4] - s[1] * s[3]) / den;
+    offset = (s[3] - slope * s[1]) / s[0];
+    return slope > 0 && std::isfinite(slope) && std::isfinite(offset);
+  };
+  Projector p = fallback;
+  if (!line(su, p.fx, p.cx) || !line(sv, p.fy, p.cy)) return fallback;
+  return p;
+}
+
+void polyline(Canvas& c, const Projector& proj, const std::vector<Vec3>& pts, Rgb col,
+              bool closed) {
+  for (size_t i = 0; i + 1 < pts.size() + (closed ? 1 : 0); ++i) {
+    const auto a = proj(pts[i]);
+    const auto b = proj(pts[(i + 1) % pts.size()]);
+    c.line(a[0], a[1], b[0], b[1], col, 2);
+  }
+}
+
+std::vector<Vec3> circle(Vec3 center, Vec3 u, Vec3 v, double r, int n = 48) {
+  std::vector<Vec3> out;
+  for (int i = 0; i < n; ++i) {
+    const double t = 2 * 3.14159265358979 * i / n;
+    out.push_back(center + u * (r * std::cos(t)) + v * (r * std::sin(t)));
+  }
+  return out;
+}
+
+void draw_primitive(Canvas& c, const Projector& proj, const ShapeFit& fit, Rgb col) {
+  const PhysicalPrimitive& p = fit.primitive;
+  const Vec3 a = normalized(p.axis);
+  Vec3 u = normalized(fit.x_axis - a * dot(fit.x_axis, a));
+  if (norm(cross(u, a)) < 0.5) u = normalized(cross(a, std::abs(a.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0}));
+  const Vec3 v = cross(a, u);
+  const auto& d = p.dimensions_m;
+  switch (p.kind) {
+    case ShapeKind::sphere: {
+      polyline(c, proj, circle(p.center, u, v, d[0]), col, true);
+      polyline(c, proj, circle(p.center, u, a, d[0]), col, true);
+      polyline(c, proj, circle(p.center, v, a, d[0]), col, true);
+      break;
+    }
+    case ShapeKind::cylinder:
+    case ShapeKind::cone: {
+      const double h = d[1];
+      const Vec3 base = p.center - a * (h / 2), top = p.center + a * (h / 2);
+      const double r_top = p.kind == ShapeKind::cone ? 0.0 : d[0];
+      polyline(c, proj, circle(base, u, v, d[0]), col, true);
+      if (r_top > 0) polyline(c, proj, circle(top, u, v, r_top), col, true);
+      for (int k = 0; k < 8; ++k) {
+        const double t = 2 * 3.14159265358979 * k / 8;
+        const Vec3 dir = u * std::cos(t) + v * std::sin(t);
+        polyline(c, proj, {base + dir * d[0], top + dir * r_top}, col, false);
+      }
+      break;
+    }
+    case ShapeKind::torus: {
+      polyline(c, proj, circle(p.center, u, v, d[0] + d[1]), col, true);
+      polyline(c, proj, circle(p.center, u, v, d[0] - d[1]), col, true);
+      polyline(c, proj, circle(p.center + a * d[1], u, v, d[0]), col, true);
+      break;
+    }
+    case ShapeKind::box: {
+      const Vec3 hx = u * (d[0] / 2), hy = v * (d[1] / 2), hz = a * (d[2] / 2);
+      std::vector<Vec3> corners;
+      for (int k = 0; k < 8; ++k)
+        corners.push_back(p.center + hx * ((k & 1) ? 1 : -1) + hy * ((k & 2) ? 1 : -1) +
+                          hz * ((k & 4) ? 1 : -1));
+      for (int i = 0; i < 8; ++i)
+        for (int bit : {1, 2, 4})
+          if (!(i & bit)) polyline(c, proj, {corners[i], corners[i | bit]}, col, false);
+      break;
+    }
+  }
+}
+
+}  // namespace
+
+RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
+                           const CameraIntrinsics& intrinsics) {
+  RgbImage img;
+  const bool organized = frame.organized();
+  img.width = organized ? frame.width : 640;
+  img.height = organized ? frame.height : 480;
+  img.rgb.assign(static_cast<size_t>(img.width) * img.height * 3, 0);
+  if (organized) {
+    for (size_t i = 0; i < frame.points.size(); ++i) {
+      const PointXYZRGB& p = frame.points[i];
+      std::uint8_t* o = &img.rgb[i * 3];
+      o[0] = p.r * 2 / 5;
+      o[1] = p.g * 2 / 5;
+      o[2] = p.b * 2 / 5;
+    }
+  }
+  const double sx = static_cast<double>(img.width) / intrinsics.width;
+  const double sy = static_cast<double>(img.height) / intrinsics.height;
+  Projector proj{intrinsics.fx * sx, intrinsics.fy * sy, (intrinsics.cx + 0.5) * sx - 0.5,
+                 (intrinsics.cy + 0.5) * sy - 0.5};
+  if (organized) proj = estimate_projection(frame, proj);
+  Canvas canvas{img};
+  for (size_t k = 0; k < scan.clusters.size(); ++k) {
+    const Rgb col = kPalette[k % std::size(kPalette)];
+    for (int i : scan.clusters[k].pixels) {
+      if (i < 0 || static_cast<size_t>(i) * 3 >= img.rgb.size()) continue;
+      std::uint8_t* o = &img.rgb[static_cast<size_t>(i) * 3];
+      for (int ch = 0; ch < 3; ++ch) o[ch] = static_cast<std::uint8_t>((o[ch] + col[ch]) / 2);
+    }
+  }
+  for (size_t k = 0; k < scan.clusters.size(); ++k) {
+    const Rgb col = kPalette[k % std::size(kPalette)];
+    const auto& prims = scan.clusters[k].shape.primitives;
+    for (size_t j = 0; j < prims.size(); ++j)
+      draw_primitive(canvas, proj, prims[j], j == 0 ? Rgb{255, 255, 255} : Rgb{255, 255, 0});
+    // Label above the cluster's topmost pixel.
+    int top = img.height, left = img.width, right = 0;
+    for (int i : scan.clusters[k].pixels) {
+      top = std::min(top, i / img.width);
+      left = std::min(left, i % img.width);
+      right = std::max(right, i % img.width);
+    }
+    std::string label = k < scan.scene.objects.size() ? scan.scene.objects[k].id : "?";
+    if (prims.empty()) label.append(" unknown");
+    for (const ShapeFit& f : prims) label.append(" ").append(shape_name(f.primitive.kind));
+    canvas.text(std::max(2, (left + right) / 2 - 30), std::max(4, top - 22), label, col);
+  }
+  return img;
+}
+
+std::string encode_png(const RgbImage& image) {
+  if (image.rgb.size() != static_cast<std::size_t>(image.width) * image.height * 3) return {};
+  return encode_png(image.width, image.height, 3, image.rgb.data());
+}
+
+Status write_png(const std::filesystem::path& path, const RgbImage& image) {
+  const std::string bytes = encode_png(image);
+  if (bytes.empty()) return Error{"could not encode the PNG image", {path.string(), 0, 0}};
+  return write_file_atomically(path, bytes);
+}
+
+}  // namespace annex

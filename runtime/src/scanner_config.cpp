@@ -1,0 +1,178 @@
+// The scan config file: `key value...` lines, `#` comments, blank lines ignored.
+// Every key names a ScanParams field (samples/config/scan.conf lists them all with
+// the Kinect defaults). Errors: file:line:col.
+#include <charconv>
+#include <optional>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "annex/formats/file_io.h"
+#include "annex/formats/text_lexer.h"
+#include "annex/runtime/scanner.h"
+
+namespace annex {
+namespace {
+
+// 'text' with its quotes (appended: GCC 12 warns falsely on "'" + std::string).
+std::string in_quotes(std::string_view text) {
+  std::string q(1, '\'');
+  q.append(text);
+  q.push_back('\'');
+  return q;
+}
+
+enum class Kind { real, positive, non_negative, angle, whole, unit_share, flag };
+
+struct Field {
+  std::string_view key;
+  Kind kind;
+  double* real = nullptr;
+  int* whole = nullptr;
+  double min_whole = 0;
+  bool* flag = nullptr;
+};
+
+}  // namespace
+
+Result<ScanParams> parse_scan_config(std::string_view text, std::string_view origin) {
+  ScanParams p;
+  std::uint64_t seed = p.shape.seed;
+  const std::vector<Field> fields = {
+      {"camera_tilt_deg", Kind::angle, &p.camera_tilt_deg},
+      {"max_plane_angle_deg", Kind::angle, &p.max_plane_angle_deg},
+      {"plane_distance_m", Kind::positive, &p.plane_distance_m},
+      {"plane_iterations", Kind::whole, nullptr, &p.plane_iterations, 1},
+      {"min_plane_points", Kind::whole, nullptr, &p.min_plane_points, 3},
+      {"pixel_stride", Kind::whole, nullptr, &p.pixel_stride, 1},
+      {"min_height_m", Kind::non_negative, &p.min_height_m},
+      {"max_height_m", Kind::positive, &p.max_height_m},
+      {"max_depth_m", Kind::positive, &p.max_depth_m},
+      {"cluster_tolerance_m", Kind::positive, &p.cluster_tolerance_m},
+      {"cluster_window_px", Kind::whole, nullptr, &p.cluster_window_px, 1},
+      {"min_cluster_points", Kind::whole, nullptr, &p.min_cluster_points, 12},
+      {"max_cluster_points", Kind::whole, nullptr, &p.max_cluster_points, 12},
+      {"mls_radius_m", Kind::non_negative, &p.mls_radius_m},
+      {"mls_window_px", Kind::whole, nullptr, &p.mls_window_px, 1},
+      {"min_view_cos", Kind::unit_share, &p.min_view_cos},
+      {"threads", Kind::whole, nullptr, &p.threads, 1},
+      {"hull_to_camera", Kind::flag, nullptr, nullptr, 0, &p.hull_to_camera},
+      {"shape_min_tolerance_m", Kind::positive, &p.shape.min_tolerance_m},
+      {"shape_noise_factor", Kind::non_negative, &p.shape.noise_factor},
+      {"shape_min_coverage", Kind::unit_share, &p.shape.min_coverage},
+      {"shape_complexity_margin", Kind::unit_share, &p.shape.complexity_margin},
+      {"shape_min_radius_m", Kind::positive, &p.shape.min_radius_m},
+      {"shape_max_radius_m", Kind::positive, &p.shape.max_radius_m},
+      {"shape_min_cone_taper", Kind::unit_share, &p.shape.min_cone_taper},
+      {"shape_min_secondary_share", Kind::unit_share, &p.shape.min_secondary_share},
+      {"shape_side_shape_penalty", Kind::unit_share, &p.shape.side_shape_penalty},
+      {"shape_max_fit_points", Kind::whole, nullptr, &p.shape.max_fit_points, 50},
+  };
+  auto error = [&](std::string message, int line, int column) {
+    return Error{std::move(message), {std::string(origin), line, column}};
+  };
+  auto number = [&](const detail::Token& t, int line, double& out) -> std::optional<Error> {
+    const auto [end, ec] = std::from_chars(t.text.data(), t.text.data() + t.text.size(), out);
+    if (ec != std::errc() || end != t.text.data() + t.text.size() || !std::isfinite(out))
+      return error("expected a number, got " + in_quotes(t.text), line, t.column);
+    return std::nullopt;
+  };
+
+  // The same lexer as the .haptic and .scene readers: comments, quoting and control
+  // characters behave alike in every Annex text file.
+  detail::Lexer lexer(text, origin);
+  if (Status size = lexer.check_size(kMaxTextFileBytes); !size) return size.error();
+  detail::Line parsed;
+  while (true) {
+    Result<bool> more = lexer.next(parsed);
+    if (!more) return more.error();
+    if (!*more) break;
+    const int line_no = parsed.number;
+    const std::vector<detail::Token>& tok = parsed.tokens;
+    const std::string_view key = tok[0].text;
+    const int want = key == "up" ? 3 : 1;
+    if (static_cast<int>(tok.size()) - 1 != want) {
+      const int col = tok.size() > static_cast<size_t>(want) + 1
+                          ? tok[want + 1].column
+                          : parsed.end_column;
+      return error(in_quotes(key) + " takes " + std::to_string(want) +
+                       (want == 1 ? " value" : " values"),
+                   line_no, col);
+    }
+    if (key == "up") {
+      double v[3];
+      for (int k = 0; k < 3; ++k)
+        if (auto e = number(tok[k + 1], line_no, v[k])) return *e;
+      if (std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) < 1e-9)
+        return error("'up' must not be the zero vector", line_no, tok[1].column);
+      p.up = {v[0], v[1], v[2]};
+    } else if (key == "seed") {
+      std::uint64_t s = 0;
+      const std::string_view t = tok[1].text;
+      const auto [e, ec] = std::from_chars(t.data(), t.data() + t.size(), s);
+      if (ec != std::errc() || e != t.data() + t.size())
+        return error("expected a whole number >= 0, got " + in_quotes(t), line_no,
+                     tok[1].column);
+      seed = s;
+    } else {
+      const Field* field = nullptr;
+      for (const Field& f : fields)
+        if (f.key == key) field = &f;
+      if (!field) {
+        std::vector<std::string_view> keys{"up", "seed"};
+        for (const Field& f : fields) keys.push_back(f.key);
+        return error("unknown key " + in_quotes(key) + detail::suggestion(key, keys), line_no,
+                     tok[0].column);
+      }
+      double x = 0;
+      if (auto e = number(tok[1], line_no, x)) return *e;
+      const int col = tok[1].column;
+      switch (field->kind) {
+        case Kind::real:
+          break;
+        case Kind::positive:
+          if (x <= 0) return error(in_quotes(key) + " must be > 0", line_no, col);
+          break;
+        case Kind::non_negative:
+          if (x < 0) return error(in_quotes(key) + " must be >= 0", line_no, col);
+          break;
+        case Kind::angle:
+          if (x < 0 || x > 90)
+            return error(in_quotes(key) + " must be within [0, 90] degrees", line_no,
+                         col);
+          break;
+        case Kind::unit_share:
+          if (x < 0 || x > 1)
+            return error(in_quotes(key) + " must be within [0, 1]", line_no, col);
+          break;
+        case Kind::flag:
+          if (x != 0 && x != 1)
+            return error(in_quotes(key) + " must be 0 or 1", line_no, col);
+          *field->flag = x == 1;
+          break;
+        case Kind::whole:
+          if (x != std::floor(x) || x < field->min_whole || x > 1e7)
+            return error(in_quotes(key) + " must be a whole number >= " +
+                             std::to_string(static_cast<int>(field->min_whole)),
+                         line_no, col);
+          break;
+      }
+      if (field->real) *field->real = x;
+      if (field->whole) *field->whole = static_cast<int>(x);
+    }
+  }
+  if (p.max_height_m <= p.min_height_m)
+    return error("max_height_m must exceed min_height_m", 0, 0);
+  if (p.shape.max_radius_m <= p.shape.min_radius_m)
+    return error("shape_max_radius_m must exceed shape_min_radius_m", 0, 0);
+  p.shape.seed = seed;
+  return p;
+}
+
+Result<ScanParams> read_scan_config_file(const std::filesystem::path& path) {
+  Result<std::string> text = read_text_file(path);
+  if (!text) return text.error();
+  return parse_scan_config(*text, path.string());
+}
+
+}  // namespace annex

@@ -1,0 +1,358 @@
+// The scanning pipeline: accuracy on a fixed set of generated tabletop scenes with
+// ground truth, failure paths, the config file, and the real Kinect scans in
+// ../shared/data/real (skipped when absent).
+#include "annex/runtime/scanner.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+
+#include "annex/runtime/pcd_io.h"
+#include "annex/runtime/scan_overlay.h"
+#include "annex/runtime/synthetic_scene.h"
+
+namespace annex {
+namespace {
+
+const std::filesystem::path kReal = std::filesystem::path(ANNEX_SHARED_DIR) / "data" / "real";
+
+double in_plane_distance(Vec3 a, Vec3 b, Vec3 n) {
+  const Vec3 d = a - b;
+  return norm(d - n * dot(d, n));
+}
+
+Vec3 centroid(const std::vector<Vec3>& pts) {
+  Vec3 c;
+  for (const Vec3& p : pts) c = c + p;
+  return pts.empty() ? c : c * (1.0 / pts.size());
+}
+
+struct Accuracy {
+  int objects = 0, correct = 0, found = 0;
+  std::vector<double> size_errors_m;
+};
+
+// Matches each true object to the nearest scanned one (by position on the table) and
+// compares shape and dimensions (box footprint sides compared sorted: the generator's
+// size_x/size_y follow its yaw, ours the longer side).
+void score_scene(const PhysicalScene& truth, const ScanResult& scan, Accuracy& acc) {
+  const Vec3 n = truth.support->normal;
+  for (const PhysicalObject& t : truth.objects) {
+    const PhysicalPrimitive& tp = t.primitives.at(0);
+    double largest = 0;
+    for (double d : tp.dimensions_m) largest = std::max(largest, d);
+    if (tp.kind == ShapeKind::sphere || tp.kind == ShapeKind::cylinder ||
+        tp.kind == ShapeKind::cone || tp.kind == ShapeKind::torus)
+      largest = std::max(largest, 2 * tp.dimensions_m[0]);
+    if (largest < 0.05) continue;  // the requirement covers objects of 5 cm and more
+    ++acc.objects;
+    int best = -1;
+    double best_d = 0.06;
+    for (size_t k = 0; k < scan.scene.objects.size(); ++k) {
+      const PhysicalObject& o = scan.scene.objects[k];
+      const Vec3 c = o.primitives.empty() ? centroid(scan.clusters[k].points) : o.primitives[0].center;
+      const double d = in_plane_distance(c, tp.center, n);
+      if (d < best_d) {
+        best_d = d;
+        best = static_cast<int>(k);
+      }
+    }
+    if (best < 0) continue;
+    ++acc.found;
+    const PhysicalObject& o = scan.scene.objects[best];
+    if (o.primitives.empty() || o.primitives[0].kind != tp.kind) continue;
+    ++acc.correct;
+    std::vector<double> a = tp.dimensions_m, b = o.primitives[0].dimensions_m;
+    ASSERT_EQ(a.size(), b.size());
+    if (tp.kind == ShapeKind::box) {
+      std::sort(a.begin(), a.begin() + 2);
+      std::sort(b.begin(), b.begin() + 2);
+    }
+    for (size_t i = 0; i < a.size(); ++i) acc.size_errors_m.push_back(std::abs(a[i] - b[i]));
+  }
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+SyntheticFrame synthetic(std::uint64_t seed) {
+  SyntheticSceneParams p;
+  p.seed = seed;
+  const Result<SyntheticScene> scene = generate_scene(p);
+  EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().format());
+  SyntheticFrame f = render_scene(*scene);
+  f.truth = ground_truth(*scene, &f.frame, &f.labels);
+  return f;
+}
+
+TEST(Scanner, AccuracyOnTheFixedGeneratedSet) {
+  Accuracy acc;
+  for (std::uint64_t seed = 1; seed <= 15; ++seed) {
+    const SyntheticFrame f = synthetic(seed);
+    const Result<ScanResult> scan = scan_frame(f.frame);
+    ASSERT_TRUE(scan.ok()) << "seed " << seed << ": " << scan.error().format();
+    score_scene(f.truth, *scan, acc);
+  }
+  ASSERT_GE(acc.objects, 40);
+  const double class_accuracy = static_cast<double>(acc.correct) / acc.objects;
+  EXPECT_GE(class_accuracy, 0.90) << acc.correct << " of " << acc.objects;
+  EXPECT_GE(acc.found, acc.objects * 95 / 100);
+  EXPECT_LE(median(acc.size_errors_m), 0.008);
+}
+
+TEST(Scanner, SupportPlaneMatchesTheTable) {
+  const SyntheticFrame f = synthetic(21);
+  const Result<ScanResult> scan = scan_frame(f.frame);
+  ASSERT_TRUE(scan.ok());
+  const Plane& truth = *f.truth.support;
+  EXPECT_GT(dot(scan->plane.normal, truth.normal), std::cos(1.0 * 3.14159265 / 180));
+  EXPECT_NEAR(scan->plane.d, truth.d, 0.01);
+  ASSERT_TRUE(scan->scene.support.has_value());
+  EXPECT_EQ(*scan->scene.support, scan->plane);
+}
+
+TEST(Scanner, IdsRunLeftToRightAndRepeatForOneFrame) {
+  const SyntheticFrame f = synthetic(22);
+  const Result<ScanResult> a = scan_frame(f.frame), b = scan_frame(f.frame);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(a->scene, b->scene);
+  ASSERT_GE(a->scene.objects.size(), 2u);
+  double last = -1e9;
+  for (size_t k = 0; k < a->scene.objects.size(); ++k) {
+    EXPECT_EQ(a->scene.objects[k].id, std::to_string(k + 1).insert(0, 1, 'p'));
+    const Vec3 c = centroid(a->clusters[k].points);
+    EXPECT_GT(c.x / c.z, last);
+    last = c.x / c.z;
+  }
+}
+
+TEST(Scanner, ReportsEveryStage) {
+  const Result<ScanResult> scan = scan_frame(synthetic(23).frame);
+  ASSERT_TRUE(scan.ok());
+  std::vector<std::string> names;
+  for (const StageTime& s : scan->stages) names.push_back(s.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"plane", "prism", "clusters", "mls", "shapes"}));
+}
+
+TEST(Scanner, UnorganizedCloudsTakeTheSlowerPath) {
+  SyntheticFrame f = synthetic(24);
+  const Result<ScanResult> organized = scan_frame(f.frame);
+  ASSERT_TRUE(organized.ok());
+  Frame flat = f.frame;
+  std::erase_if(flat.points, [](const PointXYZRGB& p) { return !std::isfinite(p.z); });
+  std::shuffle(flat.points.begin(), flat.points.end(), std::mt19937_64(3));
+  flat.width = static_cast<int>(flat.points.size());
+  flat.height = 1;
+  const Result<ScanResult> unorganized = scan_frame(flat);
+  ASSERT_TRUE(unorganized.ok());
+  ASSERT_EQ(unorganized->scene.objects.size(), organized->scene.objects.size());
+  for (size_t k = 0; k < organized->scene.objects.size(); ++k) {
+    const auto& a = organized->scene.objects[k].primitives;
+    const auto& b = unorganized->scene.objects[k].primitives;
+    ASSERT_EQ(a.empty(), b.empty());
+    if (!a.empty()) {
+      EXPECT_EQ(a[0].kind, b[0].kind);
+    }
+  }
+}
+
+TEST(Scanner, NoHorizontalPlaneIsAnError) {
+  // A wall facing the camera: a plane, but not a support.
+  Frame f;
+  f.width = 64;
+  f.height = 48;
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x) {
+      PointXYZRGB p;
+      p.z = 1.5f;
+      p.x = static_cast<float>((x - 32) * 1.5 / 525.0 * 10);
+      p.y = static_cast<float>((y - 24) * 1.5 / 525.0 * 10);
+      f.points.push_back(p);
+    }
+  ScanParams params;
+  params.min_plane_points = 100;
+  const Result<ScanResult> scan = scan_frame(f, params);
+  ASSERT_FALSE(scan.ok());
+  EXPECT_NE(scan.error().message.find("no horizontal plane"), std::string::npos);
+}
+
+TEST(Scanner, EmptyAndAllInvalidFramesAreErrors) {
+  Frame f;
+  f.width = 4;
+  f.height = 4;
+  PointXYZRGB nan;
+  nan.x = nan.y = nan.z = std::numeric_limits<float>::quiet_NaN();
+  f.points.assign(16, nan);
+  const Result<ScanResult> a = scan_frame(f);
+  ASSERT_FALSE(a.ok());
+  EXPECT_NE(a.error().message.find("no valid depth"), std::string::npos);
+  f.points.resize(15);
+  const Result<ScanResult> b = scan_frame(f);
+  ASSERT_FALSE(b.ok());
+  EXPECT_NE(b.error().message.find("does not match"), std::string::npos);
+}
+
+TEST(Scanner, OverlayHasTheFrameSizeAndEncodesAsPng) {
+  const SyntheticFrame f = synthetic(25);
+  const Result<ScanResult> scan = scan_frame(f.frame);
+  ASSERT_TRUE(scan.ok());
+  const RgbImage img = draw_scan_overlay(f.frame, *scan);
+  EXPECT_EQ(img.width, f.frame.width);
+  EXPECT_EQ(img.height, f.frame.height);
+  ASSERT_FALSE(scan->clusters.empty());
+  // A cluster pixel is tinted, not left at the dimmed colour.
+  const int i = scan->clusters[0].pixels[scan->clusters[0].pixels.size() / 2];
+  const PointXYZRGB& p = f.frame.points[i];
+  const std::uint8_t* o = &img.rgb[static_cast<size_t>(i) * 3];
+  EXPECT_FALSE(o[0] == p.r * 2 / 5 && o[1] == p.g * 2 / 5 && o[2] == p.b * 2 / 5);
+  const std::string png = encode_png(img);
+  ASSERT_GT(png.size(), 8u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+}
+
+// --- config file ---
+
+TEST(ScanConfig, SampleFileHoldsTheDefaults) {
+  const Result<ScanParams> p =
+      read_scan_config_file(std::filesystem::path(ANNEX_SOURCE_DIR) / "samples/config/scan.conf");
+  ASSERT_TRUE(p.ok()) << p.error().format();
+  const ScanParams d;
+  EXPECT_EQ(p->up, d.up);
+  EXPECT_EQ(p->camera_tilt_deg, d.camera_tilt_deg);
+  EXPECT_EQ(p->max_plane_angle_deg, d.max_plane_angle_deg);
+  EXPECT_EQ(p->plane_distance_m, d.plane_distance_m);
+  EXPECT_EQ(p->pixel_stride, d.pixel_stride);
+  EXPECT_EQ(p->cluster_tolerance_m, d.cluster_tolerance_m);
+  EXPECT_EQ(p->min_cluster_points, d.min_cluster_points);
+  EXPECT_EQ(p->mls_radius_m, d.mls_radius_m);
+  EXPECT_EQ(p->min_view_cos, d.min_view_cos);
+  EXPECT_EQ(p->shape.min_coverage, d.shape.min_coverage);
+  EXPECT_EQ(p->shape.max_fit_points, d.shape.max_fit_points);
+  EXPECT_EQ(p->shape.seed, d.shape.seed);
+}
+
+TEST(ScanConfig, ReadsValuesAndComments) {
+  const Result<ScanParams> p = parse_scan_config(
+      "# comment\n\nup 0 0 -1  # trailing\ncamera_tilt_deg 45\nmin_cluster_points 50\nseed 9\n",
+      "t.conf");
+  ASSERT_TRUE(p.ok()) << p.error().format();
+  EXPECT_EQ(p->up, (Vec3{0, 0, -1}));
+  EXPECT_EQ(p->camera_tilt_deg, 45);
+  EXPECT_EQ(p->min_cluster_points, 50);
+  EXPECT_EQ(p->shape.seed, 9u);
+}
+
+void expect_error(std::string_view text, int line, int column, std::string_view words) {
+  const Result<ScanParams> p = parse_scan_config(text, "t.conf");
+  ASSERT_FALSE(p.ok()) << text;
+  EXPECT_EQ(p.error().location, (Location{"t.conf", line, column})) << p.error().format();
+  EXPECT_NE(p.error().message.find(words), std::string::npos) << p.error().format();
+}
+
+TEST(ScanConfig, ErrorsCarryLineAndColumn) {
+  expect_error("pixel_stride 2\nclustr_tolerance_m 0.02\n", 2, 1, "unknown key");
+  expect_error("mls_radius_m 0.01x\n", 1, 14, "expected a number");
+  expect_error("  up 0 -1\n", 1, 10, "takes 3 values");
+  expect_error("pixel_stride 2 3\n", 1, 16, "takes 1 value");
+  expect_error("pixel_stride 0\n", 1, 14, "whole number >= 1");
+  expect_error("pixel_stride 1.5\n", 1, 14, "whole number");
+  expect_error("max_plane_angle_deg 120\n", 1, 21, "[0, 90]");
+  expect_error("shape_min_coverage 1.5\n", 1, 20, "[0, 1]");
+  expect_error("up 0 0 0\n", 1, 4, "zero vector");
+  expect_error("seed -1\n", 1, 6, "whole number");
+  expect_error("plane_distance_m nan\n", 1, 18, "expected a number");
+}
+
+TEST(ScanConfig, MissingFileIsAnError) {
+  const Result<ScanParams> p = read_scan_config_file("/nonexistent/scan.conf");
+  EXPECT_FALSE(p.ok());
+}
+
+// --- real Kinect scans ---
+
+std::optional<Frame> real_frame(const std::string& name) {
+  const auto path = kReal / name;
+  if (!std::filesystem::exists(path)) return std::nullopt;
+  Result<Frame> f = read_pcd(path);
+  EXPECT_TRUE(f.ok()) << (f.ok() ? "" : f.error().format());
+  if (!f.ok()) return std::nullopt;
+  return std::move(*f);
+}
+
+const PhysicalObject* nearest(const ScanResult& scan, double col) {
+  const PhysicalObject* best = nullptr;
+  double best_d = 1e9;
+  for (size_t k = 0; k < scan.scene.objects.size(); ++k) {
+    const Vec3 c = centroid(scan.clusters[k].points);
+    const double d = std::abs(525.0 * c.x / c.z + 319.5 - col);
+    if (d < best_d) {
+      best_d = d;
+      best = &scan.scene.objects[k];
+    }
+  }
+  return best;
+}
+
+TEST(ScannerReal, MilkCartoonSceneFindsFloorAndBottles) {
+  const auto f = real_frame("milk_cartoon_all_small_clorox.pcd");
+  if (!f) GTEST_SKIP() << "../shared/data/real is absent: real-scan test skipped";
+  const Result<ScanResult> scan = scan_frame(*f);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  // The floor, seen from about 1 m at a downward tilt.
+  EXPECT_LT(scan->plane.normal.y, -0.7);
+  EXPECT_GT(scan->plane.d, 0.3);
+  EXPECT_GE(scan->scene.objects.size(), 3u);
+  // The bleach bottle on the right (image column ~450): a cylinder about 12-16 cm
+  // across, its body 18-30 cm tall.
+  const PhysicalObject* bleach = nearest(*scan, 450);
+  ASSERT_NE(bleach, nullptr);
+  ASSERT_FALSE(bleach->primitives.empty());
+  EXPECT_EQ(bleach->primitives[0].kind, ShapeKind::cylinder);
+  EXPECT_GT(bleach->primitives[0].dimensions_m[0], 0.05);
+  EXPECT_LT(bleach->primitives[0].dimensions_m[0], 0.085);
+  EXPECT_GT(bleach->primitives[0].dimensions_m[1], 0.18);
+  EXPECT_LT(bleach->primitives[0].dimensions_m[1], 0.30);
+  // The carton in the centre (column ~280): a box of household size.
+  const PhysicalObject* carton = nearest(*scan, 280);
+  ASSERT_NE(carton, nullptr);
+  ASSERT_FALSE(carton->primitives.empty());
+  EXPECT_EQ(carton->primitives[0].kind, ShapeKind::box);
+  EXPECT_GT(carton->primitives[0].dimensions_m[2], 0.15);
+  EXPECT_LT(carton->primitives[0].dimensions_m[2], 0.28);
+}
+
+TEST(ScannerReal, GrabberFrameFindsTheCardboardBox) {
+  const auto f = real_frame("frame_20121214T142255.814212.pcd");
+  if (!f) GTEST_SKIP() << "../shared/data/real is absent: real-scan test skipped";
+  const Result<ScanResult> scan = scan_frame(*f);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  // The white box right of the laptop (column ~440): about 20 x 12 x 10 cm.
+  const PhysicalObject* box = nearest(*scan, 440);
+  ASSERT_NE(box, nullptr);
+  ASSERT_FALSE(box->primitives.empty());
+  EXPECT_EQ(box->primitives[0].kind, ShapeKind::box);
+  std::vector<double> d = box->primitives[0].dimensions_m;
+  std::sort(d.begin(), d.end());
+  EXPECT_GT(d[2], 0.14);
+  EXPECT_LT(d[2], 0.26);
+  EXPECT_GT(d[0], 0.06);
+  EXPECT_LT(d[0], 0.16);
+}
+
+TEST(ScannerReal, OfficeIsClutteredButScans) {
+  const auto f = real_frame("office1.pcd");
+  if (!f) GTEST_SKIP() << "../shared/data/real is absent: real-scan test skipped";
+  const Result<ScanResult> scan = scan_frame(*f);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  EXPECT_LT(scan->plane.normal.y, -0.8);  // the floor, seen nearly level
+}
+
+}  // namespace
+}  // namespace annex

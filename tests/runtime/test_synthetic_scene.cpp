@@ -1,0 +1,391 @@
+// The synthetic scene generator: determinism, the Kinect noise statistics, and
+// ground truth checked against the rendered points with independent distance formulas.
+#include "annex/runtime/synthetic_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace annex {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double sigma(double z) { return 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4); }
+
+double point_norm(const PointXYZRGB& p) { return std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z); }
+
+// Distance from (a, b) to the segment (a0, b0)-(a1, b1) in a 2D half-plane section.
+double segment_distance(double a, double b, double a0, double b0, double a1, double b1) {
+  const double da = a1 - a0, db = b1 - b0;
+  const double t = std::clamp(((a - a0) * da + (b - b0) * db) / (da * da + db * db), 0.0, 1.0);
+  return std::hypot(a - (a0 + t * da), b - (b0 + t * db));
+}
+
+// Unsigned distance from a camera-frame point to the surface of object i, from the
+// ground truth (centre, axis, dimensions) alone, except a box's yaw, taken from the scene.
+double surface_distance(const SyntheticScene& scene, const PhysicalScene& truth, std::size_t i,
+                        Vec3 p) {
+  const PhysicalPrimitive& prim = truth.objects[i].primitives[0];
+  const Vec3 rel = p - prim.center;
+  const double h = dot(rel, prim.axis);
+  const double rho = norm(rel - prim.axis * h);
+  const auto& d = prim.dimensions_m;
+  switch (prim.kind) {
+    case ShapeKind::sphere: return std::abs(norm(rel) - d[0]);
+    case ShapeKind::cylinder:
+      return std::min({segment_distance(rho, h, d[0], -d[1] / 2, d[0], d[1] / 2),
+                       segment_distance(rho, h, 0, d[1] / 2, d[0], d[1] / 2),
+                       segment_distance(rho, h, 0, -d[1] / 2, d[0], -d[1] / 2)});
+    case ShapeKind::cone:
+      return std::min(segment_distance(rho, h, d[0], -d[1] / 2, 0, d[1] / 2),
+                      segment_distance(rho, h, 0, -d[1] / 2, d[0], -d[1] / 2));
+    case ShapeKind::torus: return std::abs(std::hypot(rho - d[0], h) - d[1]);
+    case ShapeKind::box: {
+      const double yaw = scene.objects[i].yaw_deg * kPi / 180;
+      const Vec3 ex = table_to_camera_direction(scene, {std::cos(yaw), std::sin(yaw), 0});
+      const Vec3 ey = table_to_camera_direction(scene, {-std::sin(yaw), std::cos(yaw), 0});
+      const double q[3] = {std::abs(dot(rel, ex)) - d[0] / 2, std::abs(dot(rel, ey)) - d[1] / 2,
+                           std::abs(h) - d[2] / 2};
+      const double outside = std::hypot(std::max(q[0], 0.0), std::max(q[1], 0.0), std::max(q[2], 0.0));
+      const double inside = std::min(std::max({q[0], q[1], q[2]}), 0.0);
+      return std::abs(outside + inside);
+    }
+  }
+  return 1e9;
+}
+
+SyntheticScene make_scene(std::uint64_t seed, int objects, std::vector<ShapeKind> kinds = {}) {
+  SyntheticSceneParams p;
+  p.seed = seed;
+  p.object_count = objects;
+  if (!kinds.empty()) p.kinds = kinds;
+  Result<SyntheticScene> s = generate_scene(p);
+  EXPECT_TRUE(s.ok()) << s.error().format();
+  return s.ok() ? *s : SyntheticScene{};
+}
+
+SensorNoiseParams exact() {
+  SensorNoiseParams n;
+  n.enabled = false;
+  return n;
+}
+
+// Bitwise equal coordinates (NaN where NaN) and equal colours.
+bool same_points(const Frame& a, const Frame& b) {
+  if (a.points.size() != b.points.size()) return false;
+  for (std::size_t i = 0; i < a.points.size(); ++i) {
+    const PointXYZRGB &p = a.points[i], &q = b.points[i];
+    if (std::memcmp(&p.x, &q.x, sizeof p.x) || std::memcmp(&p.y, &q.y, sizeof p.y) ||
+        std::memcmp(&p.z, &q.z, sizeof p.z) || p.r != q.r || p.g != q.g || p.b != q.b)
+      return false;
+  }
+  return true;
+}
+
+TEST(SyntheticScene, SameSeedSameFramesOtherSeedOtherFrames) {
+  const SyntheticScene a = make_scene(7, 4);
+  const SyntheticScene b = make_scene(7, 4);
+  const SyntheticScene c = make_scene(8, 4);
+  const SyntheticFrame fa = render_scene(a), fb = render_scene(b), fc = render_scene(c);
+  EXPECT_TRUE(same_points(fa.frame, fb.frame));
+  EXPECT_EQ(fa.labels, fb.labels);
+  EXPECT_EQ(fa.truth, fb.truth);
+  EXPECT_FALSE(same_points(fa.frame, fc.frame));
+  EXPECT_NE(fa.truth, fc.truth);
+}
+
+TEST(SyntheticScene, KinectLikeOrganizedFrame) {
+  const SyntheticFrame f = render_scene(make_scene(3, 4));
+  EXPECT_EQ(f.frame.width, 640);
+  EXPECT_EQ(f.frame.height, 480);
+  EXPECT_TRUE(f.frame.organized());
+  ASSERT_EQ(f.frame.points.size(), 640u * 480u);
+  ASSERT_EQ(f.labels.size(), f.frame.points.size());
+  int table = 0, finite = 0;
+  for (std::size_t i = 0; i < f.labels.size(); ++i) {
+    table += f.labels[i] == kLabelTable;
+    finite += std::isfinite(f.frame.points[i].z);
+  }
+  EXPECT_GT(table, 640 * 480 / 5);  // the table fills a good part of the view
+  EXPECT_GT(finite, 640 * 480 * 8 / 10);
+}
+
+TEST(SyntheticScene, HouseholdSizesRestingOnTheTableWithoutTouching) {
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    const SyntheticScene s = make_scene(seed, 5);
+    ASSERT_EQ(s.objects.size(), 5u);
+    for (std::size_t i = 0; i < s.objects.size(); ++i) {
+      const SyntheticObject& o = s.objects[i];
+      const auto& d = o.dimensions_m;
+      ASSERT_EQ(static_cast<int>(d.size()), dimension_count(o.kind));
+      switch (o.kind) {
+        case ShapeKind::sphere:
+          EXPECT_TRUE(d[0] >= 0.03 && d[0] <= 0.08);
+          EXPECT_DOUBLE_EQ(o.center.z, d[0]);
+          break;
+        case ShapeKind::cylinder:
+          EXPECT_TRUE(d[0] >= 0.03 && d[0] <= 0.06 && d[1] >= 0.08 && d[1] <= 0.30);
+          EXPECT_DOUBLE_EQ(o.center.z, d[1] / 2);
+          break;
+        case ShapeKind::cone:
+          EXPECT_TRUE(d[0] >= 0.04 && d[0] <= 0.08 && d[1] >= 0.08 && d[1] <= 0.25);
+          EXPECT_DOUBLE_EQ(o.center.z, d[1] / 2);
+          break;
+        case ShapeKind::torus:
+          EXPECT_TRUE(d[0] >= 0.04 && d[0] <= 0.08 && d[1] >= 0.015 && d[1] <= 0.03);
+          EXPECT_DOUBLE_EQ(o.center.z, d[1]);
+          break;
+        case ShapeKind::box:
+          for (double x : d) EXPECT_TRUE(x >= 0.05 && x <= 0.25);
+          EXPECT_DOUBLE_EQ(o.center.z, d[2] / 2);
+          break;
+      }
+      EXPECT_LT(std::abs(o.center.x), s.table_half_x_m);
+      EXPECT_LT(std::abs(o.center.y), s.table_half_y_m);
+      for (std::size_t j = 0; j < i; ++j) {
+        const double gap = std::hypot(o.center.x - s.objects[j].center.x, o.center.y - s.objects[j].center.y);
+        EXPECT_GT(gap, 0.06);  // at least two small radii apart
+      }
+    }
+    const double distance = norm(s.camera_position - Vec3{0, 0, 0});
+    EXPECT_GT(distance, 0.6);
+    EXPECT_GE(s.camera_tilt_deg, 30);
+    EXPECT_LE(s.camera_tilt_deg, 60);
+  }
+}
+
+TEST(SyntheticScene, AxialNoiseFollowsTheKinectModel) {
+  SyntheticSceneParams p;
+  p.seed = 11;
+  p.object_count = 0;
+  p.camera_distance_min_m = p.camera_distance_max_m = 1.0;
+  const Result<SyntheticScene> s = generate_scene(p);
+  ASSERT_TRUE(s.ok());
+  SensorNoiseParams axial_only;
+  axial_only.lateral_sigma_px = 0;
+  axial_only.dropout = 0;
+  axial_only.edge_dropout = 0;
+  axial_only.grazing_cos = 0;
+  const SyntheticFrame noisy = render_scene(*s, axial_only);
+  const SyntheticFrame clean = render_scene(*s, exact());
+  double sum_at_1m = 0, sum2_at_1m = 0, sum2_normalized = 0;
+  int n_at_1m = 0, n = 0;
+  for (std::size_t i = 0; i < clean.frame.points.size(); ++i) {
+    const double z = clean.frame.points[i].z;
+    if (!std::isfinite(z)) continue;
+    ASSERT_TRUE(std::isfinite(noisy.frame.points[i].z));
+    const double dz = noisy.frame.points[i].z - z;
+    sum2_normalized += (dz / sigma(z)) * (dz / sigma(z));
+    ++n;
+    if (std::abs(z - 1.0) < 0.02) {
+      sum_at_1m += dz;
+      sum2_at_1m += dz * dz;
+      ++n_at_1m;
+    }
+    // The noise moves the point along its pixel's ray: x/z and y/z are kept.
+    EXPECT_NEAR(noisy.frame.points[i].x / noisy.frame.points[i].z, clean.frame.points[i].x / z, 1e-5);
+  }
+  ASSERT_GT(n_at_1m, 5000);
+  const double sigma_at_1m = std::sqrt(sum2_at_1m / n_at_1m);
+  // 0.0012 + 0.0019 * 0.6^2 = 1.884 mm.
+  EXPECT_NEAR(sigma_at_1m, 0.001884, 0.001884 * 0.05);
+  EXPECT_NEAR(sum_at_1m / n_at_1m, 0.0, 0.0001);
+  EXPECT_NEAR(std::sqrt(sum2_normalized / n), 1.0, 0.02);
+}
+
+TEST(SyntheticScene, DropoutAndLateralJitterStayModest) {
+  const SyntheticScene s = make_scene(5, 5);
+  const SyntheticFrame noisy = render_scene(s);
+  const SyntheticFrame clean = render_scene(s, exact());
+  int seen = 0, dropped = 0, relabelled = 0;
+  for (std::size_t i = 0; i < clean.frame.points.size(); ++i) {
+    if (clean.labels[i] != noisy.labels[i]) ++relabelled;
+    if (!std::isfinite(clean.frame.points[i].z)) continue;
+    ++seen;
+    dropped += !std::isfinite(noisy.frame.points[i].z);
+  }
+  const double dropout = static_cast<double>(dropped) / seen;
+  EXPECT_GT(dropout, 0.02);
+  EXPECT_LT(dropout, 0.12);
+  // Jitter moves rays across silhouettes: some pixels see another surface, few do.
+  EXPECT_GT(relabelled, 50);
+  EXPECT_LT(relabelled, 640 * 480 / 50);
+}
+
+TEST(SyntheticScene, EveryObjectIsVisible) {
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+    const SyntheticFrame f = render_scene(make_scene(seed, 4));
+    ASSERT_EQ(f.truth.objects.size(), 4u);
+    for (const PhysicalObject& o : f.truth.objects)
+      EXPECT_GT(o.point_count, 150) << "seed " << seed << " " << o.id << " "
+                                    << shape_name(o.primitives[0].kind);
+  }
+}
+
+TEST(SyntheticScene, GroundTruthTablePlaneAndCentres) {
+  const SyntheticScene s = make_scene(9, 5);
+  const PhysicalScene truth = ground_truth(s);
+  ASSERT_TRUE(truth.support.has_value());
+  const Plane& plane = *truth.support;
+  EXPECT_NEAR(norm(plane.normal), 1.0, 1e-12);
+  EXPECT_GT(plane.d, 0.3);   // the camera is above the table
+  EXPECT_LT(plane.normal.y, -0.4);  // up is towards the image top, the camera looks down
+  ASSERT_EQ(truth.objects.size(), 5u);
+  for (std::size_t i = 0; i < truth.objects.size(); ++i) {
+    const PhysicalObject& o = truth.objects[i];
+    EXPECT_EQ(o.id, std::string("o").append(std::to_string(i + 1)));
+    ASSERT_EQ(o.primitives.size(), 1u);
+    const PhysicalPrimitive& prim = o.primitives[0];
+    EXPECT_NEAR(dot(prim.axis, plane.normal), 1.0, 1e-12);
+    const double height = dot(plane.normal, prim.center) + plane.d;
+    const auto& d = prim.dimensions_m;
+    const double expected = prim.kind == ShapeKind::sphere   ? d[0]
+                            : prim.kind == ShapeKind::torus  ? d[1]
+                            : prim.kind == ShapeKind::box    ? d[2] / 2
+                                                             : d[1] / 2;
+    EXPECT_NEAR(height, expected, 1e-9) << shape_name(prim.kind);
+    EXPECT_GT(prim.center.z, 0.4);
+  }
+}
+
+// Every point the renderer attributes to object i lies on that object's analytic
+// surface: exactly without noise, within the axial noise with it.
+TEST(SyntheticScene, PointsLieOnTheirObjectsSurfaces) {
+  std::uint64_t seed = 100;
+  for (ShapeKind kind : kAllShapes) {
+    const SyntheticScene s = make_scene(++seed, 3, {kind});
+    const SyntheticFrame clean = render_scene(s, exact());
+    const SyntheticFrame noisy = render_scene(s);
+    int checked = 0, outliers = 0, on_table_top = 0, on_table_edge = 0;
+    double worst_clean = 0;
+    for (std::size_t i = 0; i < clean.labels.size(); ++i) {
+      const int l = clean.labels[i];
+      const PointXYZRGB& c = clean.frame.points[i];
+      if (l == kLabelTable && std::isfinite(c.z)) {
+        // On the table top, or on its front edge (thickness below the top).
+        const Plane& pl = *clean.truth.support;
+        const double height = dot(pl.normal, Vec3{c.x, c.y, c.z}) + pl.d;
+        if (std::abs(height) < 1e-5) {
+          ++on_table_top;
+        } else {
+          EXPECT_LT(height, 0.0);
+          EXPECT_GT(height, -s.table_thickness_m - 1e-5);
+          ++on_table_edge;
+        }
+      }
+      if (l >= 0 && std::isfinite(c.z)) {
+        worst_clean = std::max(worst_clean, surface_distance(s, clean.truth, l, {c.x, c.y, c.z}));
+        ++checked;
+      }
+      const PointXYZRGB& p = noisy.frame.points[i];
+      if (noisy.labels[i] >= 0 && std::isfinite(p.z)) {
+        // Axial noise moves a point along its ray by dz * |ray| / z; 4.5 sigma bound.
+        const double bound = 4.5 * sigma(p.z) * point_norm(p) / p.z + 1e-5;
+        if (surface_distance(s, noisy.truth, noisy.labels[i], {p.x, p.y, p.z}) > bound) ++outliers;
+      }
+    }
+    EXPECT_GT(checked, 600) << shape_name(kind);
+    EXPECT_GT(on_table_top, 5 * on_table_edge) << shape_name(kind);
+    EXPECT_LT(worst_clean, 2e-5) << shape_name(kind);
+    EXPECT_LT(outliers, checked / 500 + 2) << shape_name(kind);
+  }
+}
+
+TEST(SyntheticScene, SequencesMoveObjectsAFewMillimetresPerFrame) {
+  SyntheticSceneParams p;
+  p.seed = 21;
+  p.object_count = 3;
+  p.max_speed_m_per_frame = 0.004;
+  p.max_spin_deg_per_frame = 3;
+  const Result<SyntheticScene> s = generate_scene(p);
+  ASSERT_TRUE(s.ok());
+  const SyntheticScene later = scene_at_frame(*s, 10);
+  double moved = 0;
+  for (std::size_t i = 0; i < s->objects.size(); ++i) {
+    const Vec3 step = later.objects[i].center - s->objects[i].center;
+    EXPECT_LE(norm(step), 10 * 0.004 + 1e-12);
+    EXPECT_DOUBLE_EQ(step.z, 0.0);  // still resting on the table
+    moved += norm(step);
+    double turn = std::fmod(std::abs(later.objects[i].yaw_deg - s->objects[i].yaw_deg), 360.0);
+    turn = std::min(turn, 360 - turn);
+    EXPECT_LE(turn, 30 + 1e-9);
+  }
+  EXPECT_GT(moved, 0.005);
+
+  const SyntheticFrame f0 = render_scene(*s, {}, 0);
+  const SyntheticFrame f5 = render_scene(*s, {}, 5);
+  const SyntheticFrame f5_again = render_scene(*s, {}, 5);
+  EXPECT_TRUE(same_points(f5.frame, f5_again.frame));
+  EXPECT_FALSE(same_points(f0.frame, f5.frame));
+  EXPECT_EQ(f5.frame.index, 5);
+  EXPECT_NEAR(f5.frame.timestamp_s, 5 / 30.0, 1e-12);
+  // Frame 5's ground truth is the moved scene's.
+  EXPECT_EQ(f5.truth.objects[0].primitives[0].center,
+            ground_truth(scene_at_frame(*s, 5)).objects[0].primitives[0].center);
+}
+
+TEST(SyntheticScene, OccluderCrossesTheView) {
+  SyntheticSceneParams p;
+  p.seed = 4;
+  p.object_count = 3;
+  p.occluder = true;
+  const Result<SyntheticScene> s = generate_scene(p);
+  ASSERT_TRUE(s.ok());
+  std::vector<double> mean_u;
+  for (int k = 0; k <= 60; k += 6) {
+    const SyntheticFrame f = render_scene(*s, exact(), k);
+    double sum_u = 0;
+    int count = 0;
+    for (std::size_t i = 0; i < f.labels.size(); ++i)
+      if (f.labels[i] == kLabelOccluder) sum_u += static_cast<double>(i % 640), ++count;
+    if (count > 500) mean_u.push_back(sum_u / count);
+    EXPECT_EQ(f.truth.objects.size(), 3u);  // the occluder is not a table object
+  }
+  ASSERT_GE(mean_u.size(), 3u);
+  for (std::size_t i = 1; i < mean_u.size(); ++i) EXPECT_GT(mean_u[i], mean_u[i - 1]);
+}
+
+TEST(SyntheticScene, ImpossibleLayoutsAreErrors) {
+  SyntheticSceneParams p;
+  p.object_count = 60;
+  Result<SyntheticScene> s = generate_scene(p);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("could place only"), std::string::npos) << s.error().message;
+  p.object_count = -1;
+  EXPECT_FALSE(generate_scene(p).ok());
+  p.object_count = 2;
+  p.kinds.clear();
+  EXPECT_FALSE(generate_scene(p).ok());
+}
+
+TEST(SyntheticScene, ChosenObjectsCanBeAddedToAGeneratedTable) {
+  SyntheticSceneParams p;
+  p.seed = 2;
+  p.object_count = 0;
+  Result<SyntheticScene> s = generate_scene(p);
+  ASSERT_TRUE(s.ok());
+  const Vec3 aim = s->camera_position + Vec3{0, std::cos(s->camera_tilt_deg * kPi / 180),
+                                             -std::sin(s->camera_tilt_deg * kPi / 180)} *
+                                            (s->camera_position.z / std::sin(s->camera_tilt_deg * kPi / 180));
+  s->objects.push_back(resting_object(ShapeKind::cylinder, {0.05, 0.2}, aim.x, aim.y));
+  EXPECT_DOUBLE_EQ(s->objects[0].center.z, 0.1);
+  const SyntheticFrame f = render_scene(*s, exact());
+  ASSERT_EQ(f.truth.objects.size(), 1u);
+  EXPECT_GT(f.truth.objects[0].point_count, 1000);
+  // The cylinder stands on the aim point, which the optical axis passes through.
+  EXPECT_EQ(f.labels[240 * 640 + 320], 0);
+}
+
+TEST(SyntheticScene, AxialSigmaFormula) {
+  EXPECT_DOUBLE_EQ(kinect_axial_sigma_m(0.4), 0.0012);
+  EXPECT_NEAR(kinect_axial_sigma_m(1.0), 0.001884, 1e-9);
+  EXPECT_NEAR(kinect_axial_sigma_m(3.0), 0.0012 + 0.0019 * 2.6 * 2.6, 1e-12);
+}
+
+}  // namespace
+}  // namespace annex
