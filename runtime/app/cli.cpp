@@ -56,6 +56,11 @@ std::optional<ParsedArgs> parse_args(std::string_view command, const std::vector
   return out;
 }
 
+int fail(std::string_view command, std::string_view message, int code) {
+  std::cerr << "annex-runtime " << command << ": error: " << message << "\n";
+  return code;
+}
+
 bool wants_help(const std::vector<std::string>& args) {
   for (const auto& a : args)
     if (a == "--help" || a == "-h") return true;

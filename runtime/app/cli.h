@@ -41,6 +41,9 @@ std::optional<ParsedArgs> parse_args(std::string_view command, const std::vector
 
 bool wants_help(const std::vector<std::string>& args);
 
+// Prints "annex-runtime <command>: error: <message>" and returns `code`.
+int fail(std::string_view command, std::string_view message, int code);
+
 // Parses a whole non-negative integer option; prints an error and returns nullopt otherwise.
 std::optional<long> parse_count(std::string_view command, std::string_view option,
                                 const std::string& text);

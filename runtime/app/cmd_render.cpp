@@ -21,17 +21,7 @@ namespace {
 
 constexpr std::string_view kName = "render";
 
-// Distinct tints for primitives drawn in place of a missing mesh.
-constexpr Rgba kPalette[] = {{0.95f, 0.55f, 0.20f, 1},
-                             {0.30f, 0.60f, 0.95f, 1},
-                             {0.85f, 0.40f, 0.75f, 1},
-                             {0.90f, 0.30f, 0.30f, 1},
-                             {0.95f, 0.85f, 0.30f, 1}};
-
-int fail(std::string_view message, int code) {
-  std::cerr << "annex-runtime render: error: " << message << "\n";
-  return code;
-}
+int fail(std::string_view message, int code) { return cli::fail(kName, message, code); }
 
 // The overlays of one matched virtual object: its mesh, or its haptic primitives
 // as solid shapes when the mesh cannot be loaded.
@@ -190,7 +180,7 @@ int run_render(const std::vector<std::string>& args) {
     std::snprintf(scale, sizeof scale, "%.3f,%.3f,%.3f", fit.scale.x, fit.scale.y, fit.scale.z);
     std::cout << "render " << v.name << " on " << p.id << " scale=" << scale
               << (fit.clamped ? " clamped" : "") << "\n";
-    const Rgba tint = kPalette[colour++ % std::size(kPalette)];
+    const Rgba tint = overlay_tint(colour++);
     if (auto st = add_object_overlays(*renderer, spec_path.parent_path(), v, fit, tint, overlays);
         !st)
       return fail(st.error().format(), kExitBadInput);

@@ -22,16 +22,7 @@ namespace {
 
 constexpr std::string_view kName = "run";
 
-constexpr Rgba kPalette[] = {{0.95f, 0.55f, 0.20f, 1},
-                             {0.30f, 0.60f, 0.95f, 1},
-                             {0.85f, 0.40f, 0.75f, 1},
-                             {0.90f, 0.30f, 0.30f, 1},
-                             {0.95f, 0.85f, 0.30f, 1}};
-
-int fail(std::string_view message, int code) {
-  std::cerr << "annex-runtime run: error: " << message << "\n";
-  return code;
-}
+int fail(std::string_view message, int code) { return cli::fail(kName, message, code); }
 
 // A virtual object's drawables in model coordinates: its mesh, or its haptic
 // primitives when the mesh cannot be loaded (uploaded once, on its first match).
@@ -242,7 +233,7 @@ int run_run(const std::vector<std::string>& args) {
       if (!uploaded[v]) {
         uploaded[v] = true;
         drawables[v] = object_drawables(*renderer, spec_path.parent_path(), spec->objects[v],
-                                        kPalette[v % std::size(kPalette)]);
+                                        overlay_tint(v));
       }
       const Affine world = world_from_model(*spec, o);
       for (const Drawable& d : drawables[v]) {

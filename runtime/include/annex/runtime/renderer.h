@@ -37,6 +37,14 @@ struct Rgba {
   float r = 1, g = 1, b = 1, a = 1;
 };
 
+// Distinct tints, cycling, so overlays drawn without their mesh stay apart.
+inline Rgba overlay_tint(std::size_t index) {
+  constexpr Rgba kPalette[] = {{0.95f, 0.55f, 0.20f, 1}, {0.30f, 0.60f, 0.95f, 1},
+                               {0.85f, 0.40f, 0.75f, 1}, {0.90f, 0.30f, 0.30f, 1},
+                               {0.95f, 0.85f, 0.30f, 1}};
+  return kPalette[index % (sizeof kPalette / sizeof kPalette[0])];
+}
+
 // A mesh uploaded to a Renderer; valid only with the Renderer that returned it.
 struct MeshId {
   int index = -1;
