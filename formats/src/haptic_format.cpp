@@ -183,17 +183,7 @@ Result<HapticSpec> parse_haptic(std::string_view text, std::string_view origin,
     const Token& key = r.take();
 
     if (!have_header) {
-      if (key.quoted || key.text != kHeader)
-        return error_at(origin, key,
-                        "expected the header 'annex-haptic 1', found " + shown(key) +
-                            (key.text == "annex-scene" ? " (this is a .scene file)" : ""));
-      auto version = r.non_negative_int("annex-haptic");
-      if (!version) return version.error();
-      if (*version != kVersion)
-        return error_at(origin, r.last(),
-                        "unsupported format version " + std::to_string(*version) +
-                            "; this reader knows version " + std::to_string(kVersion));
-      if (auto st = r.expect_end("annex-haptic 1"); !st) return st.error();
+      if (auto st = read_header(r, key, kHeader, kVersion); !st) return st.error();
       have_header = true;
       continue;
     }

@@ -335,4 +335,26 @@ std::optional<std::string> check_torus(double major, double minor) {
          format_number(major);
 }
 
+Status read_header(LineReader& r, const Token& key, std::string_view name, int version) {
+  const std::string_view origin = r.origin();
+  const std::string expected = std::string(name) + " " + std::to_string(version);
+  if (key.quoted || key.text != name) {
+    std::string hint;
+    if (key.text != name) {
+      if (key.text == "annex-haptic") hint = " (this is a .haptic file)";
+      if (key.text == "annex-scene") hint = " (this is a .scene file)";
+      if (key.text == "annex-hmd") hint = " (this is an HMD config file)";
+    }
+    return error_at(origin, key,
+                    "expected the header '" + expected + "', found " + shown(key) + hint);
+  }
+  auto found = r.non_negative_int(name);
+  if (!found) return found.error();
+  if (*found != version)
+    return error_at(origin, r.last(),
+                    "unsupported format version " + std::to_string(*found) +
+                        "; this reader knows version " + std::to_string(version));
+  return r.expect_end(expected);
+}
+
 }  // namespace annex::detail

@@ -15,6 +15,7 @@
 #include "annex/runtime/pcd_io.h"
 #include "annex/runtime/renderer.h"
 #include "commands.h"
+#include "hmd_option.h"
 
 namespace annex::cli {
 namespace {
@@ -96,19 +97,7 @@ int run_render(const std::vector<std::string>& args) {
   const Result<HapticSpec> spec = read_haptic_file(spec_path, &warnings);
   const Result<PhysicalScene> scene = read_scene_file(parsed->positional[1], &warnings);
   std::optional<HmdConfig> hmd;
-  if (parsed->has("stereo")) {
-    hmd = HmdConfig{};
-    if (auto path = parsed->get("hmd")) {
-      auto read = read_hmd_config(*path, &warnings);
-      if (!read) {
-        std::cerr << read.error().format() << "\n";
-        return kExitBadInput;
-      }
-      hmd = *read;
-    }
-  } else if (parsed->has("hmd")) {
-    return fail("--hmd applies to --stereo", kExitBadInput);
-  }
+  if (!read_hmd_option(kName, *parsed, warnings, hmd)) return kExitBadInput;
   for (const Diagnostic& w : warnings) std::cerr << w.format() << "\n";
   if (!spec) std::cerr << spec.error().format() << "\n";
   if (!scene) std::cerr << scene.error().format() << "\n";

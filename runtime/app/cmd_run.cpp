@@ -16,6 +16,7 @@
 #include "annex/runtime/renderer.h"
 #include "annex/runtime/target_volume_segmenter.h"
 #include "commands.h"
+#include "hmd_option.h"
 
 namespace annex::cli {
 namespace {
@@ -111,19 +112,7 @@ int run_run(const std::vector<std::string>& args) {
   const std::filesystem::path spec_path = parsed->positional[0];
   Result<HapticSpec> spec = read_haptic_file(spec_path, &warnings);
   std::optional<HmdConfig> hmd;
-  if (parsed->has("stereo")) {
-    hmd = HmdConfig{};
-    if (auto path = parsed->get("hmd")) {
-      auto read = read_hmd_config(*path, &warnings);
-      if (!read) {
-        std::cerr << read.error().format() << "\n";
-        return kExitBadInput;
-      }
-      hmd = *read;
-    }
-  } else if (parsed->has("hmd")) {
-    return fail("--hmd applies to --stereo", kExitBadInput);
-  }
+  if (!read_hmd_option(kName, *parsed, warnings, hmd)) return kExitBadInput;
   for (const Diagnostic& w : warnings) std::cerr << w.format() << "\n";
   if (!spec) {
     std::cerr << spec.error().format() << "\n";

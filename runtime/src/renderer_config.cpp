@@ -17,6 +17,7 @@ namespace {
 using detail::error_at;
 using detail::Line;
 using detail::LineReader;
+using detail::read_header;
 using detail::shown;
 using detail::Token;
 
@@ -79,15 +80,7 @@ Result<HmdConfig> parse_hmd_config(std::string_view text, std::string_view origi
     const Token key = r.take();
 
     if (!have_header) {
-      if (key.quoted || key.text != kHeader)
-        return error_at(origin, key, "expected the header 'annex-hmd 1', found " + shown(key));
-      auto version = r.non_negative_int(kHeader);
-      if (!version) return version.error();
-      if (*version != kVersion)
-        return error_at(origin, r.last(),
-                        "unsupported format version " + std::to_string(*version) +
-                            "; this reader knows version " + std::to_string(kVersion));
-      if (auto st = r.expect_end("annex-hmd 1"); !st) return st.error();
+      if (auto st = read_header(r, key, kHeader, kVersion); !st) return st.error();
       have_header = true;
       continue;
     }

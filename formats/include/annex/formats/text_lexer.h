@@ -101,12 +101,18 @@ class LineReader {
 
   // Token location of the most recently taken token.
   const Token& last() const { return line_.tokens[i_ - 1]; }
+  std::string_view origin() const { return origin_; }
 
  private:
   const Line& line_;
   std::string_view origin_;
   std::size_t i_ = 0;
 };
+
+// The versioned header every Annex text file starts with, e.g. "annex-haptic 1".
+// `key` is the line's first token, already taken from `r`; the rest of the line must
+// be the version. Another Annex header gets a hint ("this is a .scene file").
+Status read_header(LineReader& r, const Token& key, std::string_view name, int version);
 
 // Shortest text that reads back as the same double (std::to_chars); -0 is written as 0.
 std::string format_number(double v);
