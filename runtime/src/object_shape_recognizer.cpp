@@ -66,6 +66,7 @@ struct Candidate {
   double theta = 0;       // box / lying cylinder orientation in the plane
   double ex = 0, ey = 0;  // box half sizes; lying cylinder: ex = half length
   bool valid = false;
+  bool as_cylinder = false;  // a frustum reported as the cylinder of its mean radius
   double score = 0, coverage = 0, rms = 0;
 };
 
@@ -157,6 +158,21 @@ void evaluate(Candidate& c, const Samples& s) {
     c.coverage = (covered[0] + covered[1]) / n;
   }
   c.rms = explained > 0 ? std::sqrt(sq / explained) : 0;
+}
+
+// A frustum (both radii non-zero) has no primitive of its own: it is reported as
+// the full cone through its base or as the cylinder of its mean radius, whichever
+// explains its points better. A jug or a cup reads as a cylinder, a funnel as a cone.
+void settle_frustum(Candidate& c, const Samples& s) {
+  if (c.model != Model::cone || std::min(c.r0, c.r1) <= 0) return;
+  // The cone as reported: the wide radius at one end, the apex at the other.
+  Candidate cone = c, cyl = c;
+  (c.r0 > c.r1 ? cone.r1 : cone.r0) = 0;
+  cyl.model = Model::cylinder;
+  cyl.r0 = cyl.r1 = (c.r0 + c.r1) / 2;
+  evaluate(cone, s);
+  evaluate(cyl, s);
+  c.as_cylinder = cyl.score > cone.score;
 }
 
 double quantile(std::vector<double> v, double q) {
@@ -303,10 +319,20 @@ Candidate fit_cylinder(const Samples& s, const std::vector<int>& subset, double 
   c.model = Model::cylinder;
   std::vector<std::array<double, 2>> q;
   std::vector<double> tol;
-  for (int i : subset) {
-    if (s.has_normals && std::abs(s.up[i]) > 0.7) continue;
-    q.push_back({s.p[i].a, s.p[i].b});
-    tol.push_back(s.tol[i]);
+  // The body's circle comes from its lower part when that is seen well enough: a
+  // bottle's shoulder and neck, higher up, are narrower and would shrink it.
+  std::vector<double> heights;
+  for (int i : subset) heights.push_back(s.p[i].h);
+  const double body_top = base + 0.6 * (quantile(heights, 0.99) - base);
+  for (int pass = 0; pass < 2 && q.size() < 40; ++pass) {
+    q.clear();
+    tol.clear();
+    for (int i : subset) {
+      if (s.has_normals && std::abs(s.up[i]) > 0.7) continue;
+      if (pass == 0 && s.p[i].h > body_top) continue;
+      q.push_back({s.p[i].a, s.p[i].b});
+      tol.push_back(s.tol[i]);
+    }
   }
   if (q.size() < 12) {
     q.clear();
@@ -542,8 +568,23 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
   double x0 = quantile(xs, 0.005), x1 = quantile(xs, 0.995);
   double y0 = quantile(ys, 0.005), y1 = quantile(ys, 0.995);
   if (!sides.empty()) {
-    const double sx0 = quantile(sx, 0.01), sx1 = quantile(sx, 0.99);
-    const double sy0 = quantile(sy, 0.01), sy1 = quantile(sy, 0.99);
+    double sx0 = quantile(sx, 0.01), sx1 = quantile(sx, 0.99);
+    double sy0 = quantile(sy, 0.01), sy1 = quantile(sy, 0.99);
+    // A flat top seen at the box's height is the box itself, not an overhang: when
+    // the visible side faces are shorter than it (one of them seen edge-on), the top
+    // sets the extent.
+    std::vector<double> tx, ty;
+    for (size_t i = 0; i < s.p.size(); ++i)
+      if (s.up[i] > 0.8 && s.p[i].h > s.top - std::max(0.02, 0.15 * s.top)) {
+        tx.push_back(xs[i]);
+        ty.push_back(ys[i]);
+      }
+    if (tx.size() >= 30) {
+      sx0 = std::min(sx0, quantile(tx, 0.02));
+      sx1 = std::max(sx1, quantile(tx, 0.98));
+      sy0 = std::min(sy0, quantile(ty, 0.02));
+      sy1 = std::max(sy1, quantile(ty, 0.98));
+    }
     // Trust the faces where something sticks out beyond them (flaps, a neighbour's
     // stray points), provided they span most of the footprint.
     if (sx1 - sx0 > 0.5 * (x1 - x0) && (x1 - x0) - (sx1 - sx0) > 0.015) {
@@ -554,6 +595,23 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
       y0 = sy0;
       y1 = sy1;
     }
+  }
+  // A seen face sits where its points are (their median), not at the extreme
+  // quantile: bulged cartons and depth noise spread a face over several millimetres.
+  if (!sides.empty()) {
+    std::vector<double> face[4];  // -x, +x, -y, +y
+    for (int i : sides) {
+      const double nx = cs * s.na[i] + sn * s.nb[i], ny = -sn * s.na[i] + cs * s.nb[i];
+      const double nh = std::hypot(nx, ny);
+      if (nh < 1e-6) continue;
+      if (nx < -0.9 * nh && xs[i] < x0 + 0.02) face[0].push_back(xs[i]);
+      if (nx > 0.9 * nh && xs[i] > x1 - 0.02) face[1].push_back(xs[i]);
+      if (ny < -0.9 * nh && ys[i] < y0 + 0.02) face[2].push_back(ys[i]);
+      if (ny > 0.9 * nh && ys[i] > y1 - 0.02) face[3].push_back(ys[i]);
+    }
+    double* bound[4] = {&x0, &x1, &y0, &y1};
+    for (int k = 0; k < 4; ++k)
+      if (face[k].size() >= 20) *bound[k] = quantile(face[k], 0.5);
   }
   const double xm = (x0 + x1) / 2, ym = (y0 + y1) / 2;
   c.theta = best_theta;
@@ -674,10 +732,18 @@ ShapeFit to_fit(const Candidate& c, const PlaneFrame& f) {
       p.axis = up;
       break;
     case Model::cone: {
+      const double wide = std::max(c.r0, c.r1), narrow = std::min(c.r0, c.r1);
+      if (c.as_cylinder) {
+        p.kind = ShapeKind::cylinder;
+        p.dimensions_m = {(wide + narrow) / 2, c.h1 - c.h0};
+        p.center = f.to_world(c.ca, c.cb, (c.h0 + c.h1) / 2);
+        p.axis = up;
+        break;
+      }
       // The axis points from the base (wide end) to the apex.
       p.kind = ShapeKind::cone;
       const bool narrowing = c.r1 <= c.r0;
-      p.dimensions_m = {std::max(c.r0, c.r1), c.h1 - c.h0};
+      p.dimensions_m = {wide, c.h1 - c.h0};
       p.center = f.to_world(c.ca, c.cb, (c.h0 + c.h1) / 2);
       p.axis = narrowing ? up : up * -1.0;
       break;
@@ -790,6 +856,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
       c.valid = false;
     if (!c.valid) continue;
     evaluate(c, s);
+    settle_frustum(c, s);
     out.candidates.push_back(to_fit(c, frame));
     // Cones and tori have more freedom than the shapes they generalise: they must
     // explain clearly more to win.
@@ -835,6 +902,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     }
     if (cone.valid) {
       evaluate(cone, sub);
+      settle_frustum(cone, sub);
       if (!pick || cone.score - params.complexity_margin > pick->score) pick = &cone;
     }
     if (!pick || pick->coverage < 0.6) return std::nullopt;
@@ -876,6 +944,33 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   if (!second) second = secondary(salient);
   if (second) out.primitives.push_back(*second);
   return out;
+}
+
+bool within_shape(const ShapeFit& fit, Vec3 p, double margin) {
+  const PhysicalPrimitive& prim = fit.primitive;
+  const auto& d = prim.dimensions_m;
+  const Vec3 a = normalized(prim.axis);
+  const Vec3 q = p - prim.center;
+  const double along = dot(q, a);
+  const Vec3 across = q - a * along;
+  switch (prim.kind) {
+    case ShapeKind::sphere:
+      return d.size() >= 1 && norm(q) <= d[0] + margin;
+    case ShapeKind::cylinder:
+    case ShapeKind::cone:
+      return d.size() >= 2 && norm(across) <= d[0] + margin && std::abs(along) <= d[1] / 2 + margin;
+    case ShapeKind::torus:
+      return d.size() >= 2 && norm(across) <= d[0] + d[1] + margin &&
+             std::abs(along) <= d[1] + margin;
+    case ShapeKind::box: {
+      if (d.size() < 3) return false;
+      const Vec3 u = normalized(fit.x_axis - a * dot(fit.x_axis, a));
+      const Vec3 v = cross(a, u);
+      return std::abs(dot(q, u)) <= d[0] / 2 + margin && std::abs(dot(q, v)) <= d[1] / 2 + margin &&
+             std::abs(along) <= d[2] / 2 + margin;
+    }
+  }
+  return false;
 }
 
 }  // namespace annex

@@ -57,6 +57,12 @@ Frame organize(const Frame& in) {
   return out;
 }
 
+// The plane's inlier band at depth z: the configured width, or wider where the
+// Kinect's axial noise grows (a floor 3 m away is ~1.4 cm noisy).
+double plane_band(const ScanParams& params, double z) {
+  return std::max(params.plane_distance_m, params.plane_noise_factor * kinect_sigma_z(z));
+}
+
 struct PlaneFit {
   Vec3 n;
   double d = 0;
@@ -98,11 +104,13 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up,
   if (strided.size() < 50) return best;
   // Inliers are counted on a fixed subsample per hypothesis; the winner is refined
   // on every strided pixel.
+  // The search and the fit use the fixed band: a depth-scaled one would favour big far
+  // surfaces (a wall seen obliquely) over the support.
+  const double band = params.plane_distance_m;
   std::uniform_int_distribution<size_t> pick(0, strided.size() - 1);
   std::vector<Vec3> probe;
   for (int k = 0; k < 2000; ++k) probe.push_back(to_vec(f.points[strided[pick(rng)]]));
   const double cos_max = std::cos(params.max_plane_angle_deg * 3.14159265358979 / 180.0);
-  const double band = params.plane_distance_m;
   PlaneFit hyp_best;
   int hyp_count = -1;
   // The second and third points come from the first one's image neighbourhood: a
@@ -220,12 +228,13 @@ Hull2 convex_hull(const std::vector<Vec3>& in, Vec3 n) {
 // Largest 4-connected region of plane inliers on the strided grid: coplanar clutter
 // elsewhere in the room does not stretch the hull.
 std::vector<Vec3> largest_plane_region(const Frame& f, const std::vector<int>& strided,
-                                       const PlaneFit& plane, double band, int stride) {
+                                       const PlaneFit& plane, const ScanParams& params,
+                                       int stride) {
   const int gw = (f.width + stride - 1) / stride, gh = (f.height + stride - 1) / stride;
   std::vector<int> label(static_cast<size_t>(gw) * gh, -2);  // -2 not inlier, -1 unvisited
   for (int i : strided) {
     const Vec3 p = to_vec(f.points[i]);
-    if (std::abs(dot(plane.n, p) + plane.d) < band) {
+    if (std::abs(dot(plane.n, p) + plane.d) < plane_band(params, p.z)) {
       const int x = (i % f.width) / stride, y = (i / f.width) / stride;
       label[static_cast<size_t>(y) * gw + x] = -1;
     }
@@ -302,6 +311,28 @@ std::vector<std::vector<int>> grow_clusters(const Frame& f, const std::vector<ch
   return clusters;
 }
 
+// Whether a cluster's surface runs on above the height band: grid neighbours of its
+// pixels that are above max_height_m yet within the cluster tolerance in 3D. Walls,
+// cupboards and people do; an object on the support ends below the band's top.
+bool continues_above(const Frame& f, const std::vector<int>& grid_pixels, int step,
+                     const PlaneFit& plane, const ScanParams& params) {
+  const double tol2 = params.cluster_tolerance_m * params.cluster_tolerance_m;
+  size_t joins = 0;
+  for (int i : grid_pixels) {
+    const int x = i % f.width, y = i / f.width;
+    const PointXYZRGB& p = f.points[i];
+    const int nb[4][2] = {{x - step, y}, {x + step, y}, {x, y - step}, {x, y + step}};
+    for (const auto& xy : nb) {
+      if (xy[0] < 0 || xy[1] < 0 || xy[0] >= f.width || xy[1] >= f.height) continue;
+      const PointXYZRGB& q = f.points[static_cast<size_t>(xy[1]) * f.width + xy[0]];
+      if (!valid(q) || dot(plane.n, to_vec(q)) + plane.d <= params.max_height_m) continue;
+      const double dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
+      joins += dx * dx + dy * dy + dz * dz <= tol2;
+    }
+  }
+  return joins >= std::max<size_t>(8, grid_pixels.size() / 50);
+}
+
 // Full-resolution pixels of a cluster found on the strided grid: each grid pixel's
 // block, keeping pixels in the height band and near their grid pixel in 3D.
 std::vector<int> expand_cluster(const Frame& f, const std::vector<int>& grid_pixels, int step,
@@ -318,7 +349,8 @@ std::vector<int> expand_cluster(const Frame& f, const std::vector<int>& grid_pix
         const PointXYZRGB& q = f.points[j];
         if (!valid(q)) continue;
         const double h = dot(plane.n, to_vec(q)) + plane.d;
-        if (h < params.min_height_m || h > params.max_height_m) continue;
+        if (h < std::max(params.min_height_m, plane_band(params, q.z)) || h > params.max_height_m)
+          continue;
         const double ddx = c.x - q.x, ddy = c.y - q.y, ddz = c.z - q.z;
         if (ddx * ddx + ddy * ddy + ddz * ddz > tol2) continue;
         out.push_back(j);
@@ -402,6 +434,54 @@ void parallel_for(size_t n, int threads, F body) {
   for (std::thread& t : pool) t.join();
 }
 
+// Two objects on a support cannot interpenetrate: a cluster lying mostly inside a
+// bigger object's fitted solid is a part of it that a depth edge cut off (a bottle's
+// handle behind its rim). Each such part joins the biggest object that contains it,
+// and the grown objects are smoothed and fitted again.
+void merge_parts(const Frame& f, const ScanParams& params, ScanResult& result,
+                 std::vector<int>& label, std::vector<std::vector<Vec3>>& normals) {
+  const size_t n = result.clusters.size();
+  if (n < 2 || params.part_margin_m <= 0) return;
+  std::vector<size_t> by_size(n);
+  std::iota(by_size.begin(), by_size.end(), 0);
+  std::stable_sort(by_size.begin(), by_size.end(), [&](size_t a, size_t b) {
+    return result.clusters[a].pixels.size() > result.clusters[b].pixels.size();
+  });
+  std::vector<int> owner(n, -1);
+  for (size_t k = 1; k < n; ++k) {
+    const ScanCluster& part = result.clusters[by_size[k]];
+    for (size_t j = 0; j < k && owner[by_size[k]] < 0; ++j) {
+      const size_t big = by_size[j];
+      if (owner[big] >= 0 || result.clusters[big].shape.primitives.empty()) continue;
+      const ShapeFit& solid = result.clusters[big].shape.primitives.front();
+      size_t inside = 0;
+      for (const Vec3& p : part.points) inside += within_shape(solid, p, params.part_margin_m);
+      if (!part.points.empty() && inside >= params.part_share * part.points.size())
+        owner[by_size[k]] = static_cast<int>(big);
+    }
+  }
+  std::vector<char> grown(n, 0);
+  for (size_t c = 0; c < n; ++c) {
+    if (owner[c] < 0) continue;
+    ScanCluster& big = result.clusters[owner[c]];
+    for (int i : result.clusters[c].pixels) label[i] = owner[c];
+    big.pixels.insert(big.pixels.end(), result.clusters[c].pixels.begin(),
+                      result.clusters[c].pixels.end());
+    std::sort(big.pixels.begin(), big.pixels.end());
+    grown[owner[c]] = 1;
+  }
+  parallel_for(n, params.threads, [&](size_t c) {
+    if (!grown[c]) return;
+    ScanCluster& sc = result.clusters[c];
+    smooth_cluster(f, sc.pixels, label, static_cast<int>(c), params, sc.points, normals[c]);
+    sc.shape = recognize_object_shape(sc.points, normals[c], result.plane, params.shape);
+  });
+  std::vector<ScanCluster> kept;
+  for (size_t c = 0; c < n; ++c)
+    if (owner[c] < 0) kept.push_back(std::move(result.clusters[c]));
+  result.clusters = std::move(kept);
+}
+
 }  // namespace
 
 Vec3 effective_up(const ScanParams& params) {
@@ -474,13 +554,25 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
 
   t0 = Clock::now();
   const std::vector<Vec3> region =
-      largest_plane_region(f, strided, ps.plane, params.plane_distance_m, stride);
+      largest_plane_region(f, strided, ps.plane, params, stride);
   // The support continues under the camera's view: the floor between the camera
   // and its visible part is hidden by the objects standing on it or out of view, so
   // the camera's foot on the plane joins the hull.
   std::vector<Vec3> hull_points = region;
   if (params.hull_to_camera) hull_points.push_back(ps.plane.n * -ps.plane.d);
-  const Hull2 hull = convex_hull(hull_points, ps.plane.n);
+  Hull2 hull = convex_hull(hull_points, ps.plane.n);
+  if (params.hull_margin_m > 0 && hull.pts.size() >= 3) {
+    // The hull grown by the margin (its corners swept by a 16-gon): a support seen
+    // only in part, such as a floor behind furniture, still holds what stands beside it.
+    std::vector<Vec3> grown;
+    for (const auto& q : hull.pts)
+      for (int k = 0; k < 16; ++k) {
+        const double t = 2 * 3.14159265358979 * k / 16;
+        grown.push_back(hull.u * (q[0] + params.hull_margin_m * std::cos(t)) +
+                        hull.v * (q[1] + params.hull_margin_m * std::sin(t)));
+      }
+    hull = convex_hull(grown, ps.plane.n);
+  }
   for (const auto& q : hull.pts) {
     Vec3 p = hull.u * q[0] + hull.v * q[1];
     p = p - ps.plane.n * (dot(ps.plane.n, p) + ps.plane.d);
@@ -494,7 +586,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     const PointXYZRGB& q = f.points[i];
     const Vec3 p = to_vec(q);
     const double h = dot(ps.plane.n, p) + ps.plane.d;
-    if (h < params.min_height_m || h > params.max_height_m) continue;
+    if (h < std::max(params.min_height_m, plane_band(params, p.z)) || h > params.max_height_m)
+      continue;
     if (hull.contains(p)) {
       mask[i] = 1;
       seeds.push_back(i);
@@ -506,6 +599,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   std::vector<std::vector<int>> clusters;
   for (const std::vector<int>& grid : grow_clusters(f, mask, seeds, stride, params)) {
     if (static_cast<int>(grid.size()) * stride * stride < params.min_cluster_points / 2) continue;
+    if (params.drop_cut_clusters && continues_above(f, grid, stride, ps.plane, params)) continue;
     std::vector<int> full = expand_cluster(f, grid, stride, ps.plane, params);
     if (static_cast<int>(full.size()) < params.min_cluster_points ||
         static_cast<int>(full.size()) > params.max_cluster_points)
@@ -534,6 +628,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     ScanCluster& sc = result.clusters[c];
     sc.shape = recognize_object_shape(sc.points, normals[c], result.plane, params.shape);
   });
+  merge_parts(f, params, result, label, normals);
   for (const ScanCluster& sc : result.clusters) {
     PhysicalObject obj;
     for (const ShapeFit& fit : sc.shape.primitives) obj.primitives.push_back(fit.primitive);

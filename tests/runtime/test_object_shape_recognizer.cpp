@@ -140,6 +140,38 @@ TEST(ObjectShapeRecognizer, ConeHeightReachesTheApex) {
   EXPECT_NEAR(p.dimensions_m[1], 0.15, 0.01);
 }
 
+TEST(ObjectShapeRecognizer, GentleFrustumReadsAsCylinderOfMeanRadius) {
+  // A cup-like frustum, 5 cm at the base to 3.5 cm at the top: a full cone through its
+  // base would miss its top, the cylinder of its mean radius is the closer primitive.
+  const Cloud c = visible(cone(on_table(0, 1.0, 0), 0.05, 0.15, 0.035), 0.0015, 12);
+  const ObjectShape s = recognize(c);
+  ASSERT_FALSE(s.primitives.empty());
+  const PhysicalPrimitive& p = s.primitives[0].primitive;
+  EXPECT_EQ(p.kind, ShapeKind::cylinder);
+  EXPECT_NEAR(p.dimensions_m[0], 0.0425, 0.004);
+  EXPECT_NEAR(p.dimensions_m[1], 0.15, 0.01);
+  EXPECT_GT(s.fit, 0.8);  // the frustum fitted to the points explains them
+}
+
+TEST(ObjectShapeRecognizer, WithinShapeGrowsTheSolidByTheMargin) {
+  ShapeFit fit;
+  fit.primitive.kind = ShapeKind::box;
+  fit.primitive.dimensions_m = {0.2, 0.1, 0.3};
+  fit.primitive.center = {0, 0, 1};
+  fit.primitive.axis = {0, -1, 0};
+  fit.x_axis = {1, 0, 0};
+  EXPECT_TRUE(within_shape(fit, {0.09, -0.14, 1.04}, 0.0));
+  EXPECT_FALSE(within_shape(fit, {0.11, 0, 1}, 0.0));
+  EXPECT_TRUE(within_shape(fit, {0.11, 0, 1}, 0.015));
+  EXPECT_FALSE(within_shape(fit, {0, 0, 1.07}, 0.015));
+  fit.primitive.kind = ShapeKind::cylinder;
+  fit.primitive.dimensions_m = {0.05, 0.2};
+  EXPECT_TRUE(within_shape(fit, {0.03, 0.09, 1.03}, 0.0));
+  EXPECT_FALSE(within_shape(fit, {0.045, 0, 1.045}, 0.0));  // outside the circle
+  EXPECT_TRUE(within_shape(fit, {0.045, 0, 1.045}, 0.02));
+  EXPECT_FALSE(within_shape(fit, {0, 0.13, 1}, 0.02));  // above the top
+}
+
 TEST(ObjectShapeRecognizer, SphereRestingOnThePlane) {
   const Cloud c = visible(sphere(on_table(0, 0.9, 0.05), 0.05), 0.0015, 3);
   const ObjectShape s = recognize(c);
@@ -174,9 +206,11 @@ TEST(ObjectShapeRecognizer, BoxFootprintAndHeight) {
 
 TEST(ObjectShapeRecognizer, BottleGetsBodyCylinderAndNeckCone) {
   std::vector<Surface> bottle = cylinder(on_table(0, 1.0, 0), 0.04, 0.16);
-  // Drop the body's cap and put a shoulder cone (r 4 -> 1.2 cm over 8 cm) on it.
+  // Drop the body's cap and put a shoulder cone (r 4 -> 0.6 cm over 8 cm) on it. (A
+  // shoulder ending much wider, near a third of its base, is a frustum that reads as a
+  // cylinder as well as a cone: GentleFrustumReadsAsCylinderOfMeanRadius.)
   std::erase_if(bottle, [](const Surface& s) { return s.n.y < -0.9; });
-  for (const Surface& s : cone(on_table(0, 1.0, 0.16), 0.04, 0.08, 0.012)) bottle.push_back(s);
+  for (const Surface& s : cone(on_table(0, 1.0, 0.16), 0.04, 0.08, 0.006)) bottle.push_back(s);
   const ObjectShape s = recognize(visible(bottle, 0.0015, 6));
   ASSERT_EQ(s.primitives.size(), 2u);
   EXPECT_EQ(s.primitives[0].primitive.kind, ShapeKind::cylinder);

@@ -63,6 +63,10 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
                                    const std::vector<Vec3>& normals, const Plane& support,
                                    const ShapeRecognizerParams& params = {});
 
+// Whether p lies inside the fitted solid grown by `margin` metres on every side
+// (sphere, cylinder, cone and torus by their bounding cylinder about the axis).
+bool within_shape(const ShapeFit& fit, Vec3 p, double margin);
+
 // The paper's method for comparison: CGAL 5.5 Efficient RANSAC (Schnabel et al. 2007)
 // on the same points (jet normals estimated when `normals` is empty), salient primitive
 // = the detected shape with most support. Used by the benchmark (docs/perception.md).

@@ -28,13 +28,23 @@ struct ScanParams {
   double camera_tilt_deg = 30;
   // Planes whose normal is further than this from up are not supports.
   double max_plane_angle_deg = 45;
-  double plane_distance_m = 0.012;  // plane inlier band (grows with depth noise)
+  // Plane inlier band: this width, or plane_noise_factor times the Kinect's axial
+  // noise at the point's depth where that is wider (far floor). Points within the
+  // band are never object points.
+  double plane_distance_m = 0.012;
+  double plane_noise_factor = 2.5;
   int plane_iterations = 300;       // RANSAC samples
   int min_plane_points = 2000;      // full-resolution points
   int pixel_stride = 2;             // plane search works on every n-th pixel
   // The hull of the support's visible part is extended to the camera's foot on the
   // plane (objects in front of the visible floor hide the floor under them).
   bool hull_to_camera = true;
+  // The hull is grown by this margin: a floor seen between furniture still holds
+  // the objects standing beside its visible part (office1's storage box).
+  double hull_margin_m = 0.0;
+  // Clusters whose surface continues above max_height_m (walls, cupboards, people)
+  // are not objects on the support: dropped when true.
+  bool drop_cut_clusters = true;
   // Prism: objects between these heights above the plane, inside its hull.
   double min_height_m = 0.012;
   double max_height_m = 0.6;
@@ -50,6 +60,11 @@ struct ScanParams {
   // Points whose smoothed surface is seen at a grazing angle (|cos| below this) are
   // veil points between an object's edge and the background: left out of the fits.
   double min_view_cos = 0.2;
+  // A cluster with at least `part_share` of its points inside a bigger object's fitted
+  // solid grown by `part_margin_m` is a part of it cut off by a depth edge (a bottle's
+  // handle): it joins that object, which is fitted again. 0 disables.
+  double part_margin_m = 0.015;
+  double part_share = 0.6;
   ShapeRecognizerParams shape;
   // Worker threads for the per-cluster stages (smoothing, shapes); results do not
   // depend on it.
