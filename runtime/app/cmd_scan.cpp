@@ -42,7 +42,8 @@ double median(std::vector<double> v) {
 }
 
 int run_scan(const std::vector<std::string>& args) {
-  const auto parsed = parse_args("scan", args, {{}, {"scene", "png", "config", "repeat"}});
+  const auto parsed =
+      parse_args("scan", args, {{"explain"}, {"scene", "png", "config", "repeat"}});
   if (!parsed) return kExitBadInput;
   if (parsed->positional.size() != 1) {
     std::cerr << "annex-runtime scan: error: expected one CLOUD.pcd (see --help)\n";
@@ -79,17 +80,28 @@ int run_scan(const std::vector<std::string>& args) {
   const Plane& pl = r.plane;
   std::cout << "plane normal=" << vec(pl.normal) << " d=" << num(pl.d)
             << " points=" << r.plane_inliers << "\n";
-  for (const PhysicalObject& o : r.scene.objects) {
+  for (size_t i = 0; i < r.scene.objects.size(); ++i) {
+    const PhysicalObject& o = r.scene.objects[i];
     if (o.primitives.empty()) {
       std::cout << "object " << o.id << " unknown points=" << o.point_count << " fit=0\n";
-      continue;
+    } else {
+      std::cout << "object " << o.id << " " << primitive_fields(o.primitives[0])
+                << " points=" << o.point_count << " fit=" << num(o.fit, 2) << "\n";
+      for (size_t k = 1; k < o.primitives.size(); ++k)
+        std::cout << "part " << o.id << " " << primitive_fields(o.primitives[k])
+                  << " fit=" << num(o.primitives[k].fit, 2) << "\n";
     }
-    std::cout << "object " << o.id << " " << primitive_fields(o.primitives[0])
-              << " points=" << o.point_count << " fit=" << num(o.fit, 2) << "\n";
-    for (size_t k = 1; k < o.primitives.size(); ++k)
-      std::cout << "part " << o.id << " " << primitive_fields(o.primitives[k])
-                << " fit=" << num(o.primitives[k].fit, 2) << "\n";
+    if (parsed->has("explain") && i < r.clusters.size())
+      for (const ShapeFit& c : r.clusters[i].shape.candidates)
+        std::cout << "  candidate " << o.id << " " << primitive_fields(c.primitive)
+                  << " coverage=" << num(c.coverage, 2) << " rms_mm=" << num(c.rms_m * 1000, 1)
+                  << "\n";
   }
+  if (r.scene.objects.empty())
+    std::cerr << "annex-runtime scan: note: no objects stand inside the support's hull ("
+              << r.plane_inliers
+              << " support points). A support seen only in part, like a floor in a room seen "
+                 "level, needs a hull margin: --config samples/config/room.conf\n";
   if (repeat > 0) {
     std::map<std::string, std::vector<double>> stage_ms;
     std::vector<std::string> order;
@@ -131,7 +143,7 @@ int run_scan(const std::vector<std::string>& args) {
 extern const Command kScanCommand = {
     "scan", "find the table plane and the objects on it in one depth frame",
     "usage: annex-runtime scan CLOUD.pcd [--scene OUT.scene] [--png OUT.png]\n"
-    "                          [--config FILE] [--repeat N]\n"
+    "                          [--config FILE] [--explain] [--repeat N]\n"
     "\n"
     "Finds the dominant near-horizontal plane, the objects resting on it and each\n"
     "object's primitives (sphere, cylinder, cone, torus, box). Prints\n"
@@ -144,6 +156,9 @@ extern const Command kScanCommand = {
     "  --scene OUT.scene  write the objects as a scene file (docs/scene-format.md)\n"
     "  --png OUT.png      write the camera view with objects coloured and outlined\n"
     "  --config FILE      scan parameters (samples/config/scan.conf, docs/perception.md)\n"
+    "  --explain          after each object, every shape tried: 'candidate <id> <shape>\n"
+    "                     <dim>=<metres>... coverage=C rms_mm=R' (the highest score wins;\n"
+    "                     docs/perception.md)\n"
     "  --repeat N         run the pipeline N more times; print per-stage medians\n"
     "                     'stage <name> median_ms=<x>' and 'total median_ms=<x>'\n"
     "\n"

@@ -604,10 +604,12 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
       const double nx = cs * s.na[i] + sn * s.nb[i], ny = -sn * s.na[i] + cs * s.nb[i];
       const double nh = std::hypot(nx, ny);
       if (nh < 1e-6) continue;
-      if (nx < -0.9 * nh && xs[i] < x0 + 0.02) face[0].push_back(xs[i]);
-      if (nx > 0.9 * nh && xs[i] > x1 - 0.02) face[1].push_back(xs[i]);
-      if (ny < -0.9 * nh && ys[i] < y0 + 0.02) face[2].push_back(ys[i]);
-      if (ny > 0.9 * nh && ys[i] > y1 - 0.02) face[3].push_back(ys[i]);
+      // Anywhere in its half of the footprint: stray points (a neighbour's edge) may
+      // sit beyond the face and set the extreme quantile.
+      if (nx < -0.9 * nh && xs[i] < (x0 + x1) / 2) face[0].push_back(xs[i]);
+      if (nx > 0.9 * nh && xs[i] > (x0 + x1) / 2) face[1].push_back(xs[i]);
+      if (ny < -0.9 * nh && ys[i] < (y0 + y1) / 2) face[2].push_back(ys[i]);
+      if (ny > 0.9 * nh && ys[i] > (y0 + y1) / 2) face[3].push_back(ys[i]);
     }
     double* bound[4] = {&x0, &x1, &y0, &y1};
     for (int k = 0; k < 4; ++k)
@@ -625,6 +627,12 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
   }
   c.h0 = 0;
   c.h1 = s.top;
+  // A flat top seen from above sets the height (stray points above it do not).
+  std::vector<double> top_h;
+  if (s.has_normals)
+    for (size_t i = 0; i < s.p.size(); ++i)
+      if (s.up[i] > 0.9 && s.p[i].h > s.top - std::max(0.02, 0.15 * s.top)) top_h.push_back(s.p[i].h);
+  if (top_h.size() >= 30 && top_h.size() >= s.p.size() / 10) c.h1 = quantile(top_h, 0.5);
   c.valid = c.ey >= params.min_radius_m / 2 && c.ex <= params.max_radius_m * 2 && c.h1 > 0.005;
   return c;
 }

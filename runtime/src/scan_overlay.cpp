@@ -8,6 +8,7 @@
 
 #include "annex/formats/file_io.h"
 #include "annex/formats/png_io.h"
+#include "annex/runtime/target_volume_segmenter.h"
 
 #include <stb/stb_easy_font.h>
 
@@ -70,32 +71,6 @@ struct Projector {
     return {fx * p.x / p.z + cx, fy * p.y / p.z + cy};
   }
 };
-
-// An organized cloud carries its own intrinsics: each pixel's u = fx x/z + cx. A
-// least-squares line through a sample of pixels recovers them, so outlines land on
-// the image even for sensors whose intrinsics differ from the Kinect defaults.
-Projector estimate_projection(const Frame& f, Projector fallback) {
-  double su[5] = {0, 0, 0, 0, 0}, sv[5] = {0, 0, 0, 0, 0};  // n, sum t, sum t^2, sum u, sum t u
-  const size_t step = std::max<size_t>(1, f.points.size() / 4000);
-  for (size_t i = 0; i < f.points.size(); i += step) {
-    const PointXYZRGB& p = f.points[i];
-    if (!std::isfinite(p.z) || p.z <= 0 || !std::isfinite(p.x) || !std::isfinite(p.y)) continue;
-    const double u = static_cast<double>(i % f.width), v = static_cast<double>(i / f.width);
-    const double tx = p.x / p.z, ty = p.y / p.z;
-    su[0] += 1, su[1] += tx, su[2] += tx * tx, su[3] += u, su[4] += tx * u;
-    sv[0] += 1, sv[1] += ty, sv[2] += ty * ty, sv[3] += v, sv[4] += ty * v;
-  }
-  auto line = [](const double* s, double& slope, double& offset) {
-    const double den = s[0] * s[2] - s[1] * s[1];
-    if (s[0] < 100 || std::abs(den) < 1e-12) return false;
-    slope = (s[0] * s[4] - s[1] * s[3]) / den;
-    offset = (s[3] - slope * s[1]) / s[0];
-    return slope > 0 && std::isfinite(slope) && std::isfinite(offset);
-  };
-  Projector p = fallback;
-  if (!line(su, p.fx, p.cx) || !line(sv, p.fy, p.cy)) return fallback;
-  return p;
-}
 
 void polyline(Canvas& c, const Projector& proj, const std::vector<Vec3>& pts, Rgb col,
               bool closed) {
@@ -185,7 +160,11 @@ RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
   const double sy = static_cast<double>(img.height) / intrinsics.height;
   Projector proj{intrinsics.fx * sx, intrinsics.fy * sy, (intrinsics.cx + 0.5) * sx - 0.5,
                  (intrinsics.cy + 0.5) * sy - 0.5};
-  if (organized) proj = estimate_projection(frame, proj);
+  // An organized cloud carries its own intrinsics, so outlines land on the image even
+  // for sensors whose intrinsics differ from the Kinect defaults.
+  if (organized)
+    if (const Result<CameraIntrinsics> k = estimate_intrinsics(frame))
+      proj = {k->fx, k->fy, k->cx, k->cy};
   Canvas canvas{img};
   for (size_t k = 0; k < scan.clusters.size(); ++k) {
     const Rgb col = kPalette[k % std::size(kPalette)];

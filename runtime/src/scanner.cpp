@@ -370,11 +370,14 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
   const size_t step = std::max<size_t>(1, pixels.size() / budget + (pixels.size() % budget ? 1 : 0));
   points.clear();
   normals.clear();
-  const double r2 = params.mls_radius_m * params.mls_radius_m;
   const int w = params.mls_window_px;
   for (size_t k = 0; k < pixels.size(); k += step) {
     const int i = pixels[k], x = i % f.width, y = i / f.width;
     const Vec3 p = to_vec(f.points[i]);
+    // Far away, pixels spread and depth steps grow (1.8 cm at 2.5 m): the radius
+    // widens to reach the window's pixels and span the noise, else no plane is found.
+    const double r = std::max({params.mls_radius_m, 3 * kinect_sigma_z(p.z), 1.5 * w * p.z / 525.0});
+    const double r2 = r * r;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     Eigen::Matrix3d sq = Eigen::Matrix3d::Zero();
     int n = 0;

@@ -47,6 +47,15 @@ std::filesystem::path scene_pcd() {
   return path;
 }
 
+TEST(CliScan, ExplainListsEveryCandidateUnderItsObject) {
+  const auto r = run_cli("scan " + shell_quote(scene_pcd().string()) + " --explain");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::regex candidate(
+      "\nobject p1 [^\n]*\n(  candidate p1 (sphere|cylinder|cone|torus|box)( [a-z_]+=[0-9.]+)+ "
+      "center=\\S+ axis=\\S+ coverage=[0-9.]+ rms_mm=[0-9.]+\n)+object p2 ");
+  EXPECT_TRUE(std::regex_search(r.output, candidate)) << r.output;
+}
+
 TEST(CliScan, PrintsPlaneThenObjects) {
   const auto r = run_cli("scan " + shell_quote(scene_pcd().string()));
   ASSERT_EQ(r.exit_code, 0) << r.output;

@@ -233,6 +233,11 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->min_cluster_points, d.min_cluster_points);
   EXPECT_EQ(p->mls_radius_m, d.mls_radius_m);
   EXPECT_EQ(p->min_view_cos, d.min_view_cos);
+  EXPECT_EQ(p->plane_noise_factor, d.plane_noise_factor);
+  EXPECT_EQ(p->hull_margin_m, d.hull_margin_m);
+  EXPECT_EQ(p->drop_cut_clusters, d.drop_cut_clusters);
+  EXPECT_EQ(p->part_margin_m, d.part_margin_m);
+  EXPECT_EQ(p->part_share, d.part_share);
   EXPECT_EQ(p->shape.min_coverage, d.shape.min_coverage);
   EXPECT_EQ(p->shape.max_fit_points, d.shape.max_fit_points);
   EXPECT_EQ(p->shape.seed, d.shape.seed);
@@ -390,6 +395,33 @@ TEST(ScannerReal, OfficeIsClutteredButScans) {
   const Result<ScanResult> scan = scan_frame(*f);
   ASSERT_TRUE(scan.ok()) << scan.error().format();
   EXPECT_LT(scan->plane.normal.y, -0.8);  // the floor, seen nearly level
+}
+
+TEST(ScannerReal, OfficeWithTheRoomConfigFindsTheStorageBox) {
+  const auto f = real_frame("office1.pcd");
+  if (!f) GTEST_SKIP() << "../shared/data/real is absent: real-scan test skipped";
+  const Result<ScanParams> room =
+      read_scan_config_file(std::filesystem::path(ANNEX_SOURCE_DIR) / "samples/config/room.conf");
+  ASSERT_TRUE(room.ok()) << room.error().format();
+  const Result<ScanResult> scan = scan_frame(*f, *room);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  EXPECT_LT(scan->plane.normal.y, -0.95);  // the floor, the camera level
+  // The grey storage box at the bottom right (column ~550), 2.4 m away: its top about
+  // 55 cm above the floor, 30 to 50 cm on a side; its base is below the image.
+  const PhysicalObject* box = nearest(*scan, 550);
+  ASSERT_NE(box, nullptr);
+  ASSERT_FALSE(box->primitives.empty());
+  EXPECT_EQ(box->primitives[0].kind, ShapeKind::box);
+  const std::vector<double>& d = box->primitives[0].dimensions_m;
+  EXPECT_GT(d[0], 0.3);
+  EXPECT_LT(d[0], 0.5);
+  EXPECT_GT(d[1], 0.25);
+  EXPECT_LT(d[1], 0.5);
+  EXPECT_GT(d[2], 0.45);
+  EXPECT_LT(d[2], 0.65);
+  // Walls and cupboards run on above the height band: none of them is an object.
+  for (const PhysicalObject& o : scan->scene.objects)
+    if (!o.primitives.empty()) EXPECT_LT(o.primitives[0].dimensions_m.back(), 0.65) << o.id;
 }
 
 }  // namespace
