@@ -160,8 +160,8 @@ void evaluate(Candidate& c, const Samples& s) {
   c.rms = explained > 0 ? std::sqrt(sq / explained) : 0;
 }
 
-// A frustum (both radii non-zero) has no primitive of its own: it is reported as
-// the full cone through its base or as the cylinder of its mean radius, whichever
+// A frustum (both radii non-zero) has no primitive of its own: it is reported as the
+// full cone through its wide end or as the cylinder of its mean radius, whichever
 // explains its points better. A jug or a cup reads as a cylinder, a funnel as a cone.
 void settle_frustum(Candidate& c, const Samples& s) {
   if (c.model != Model::cone || std::min(c.r0, c.r1) <= 0) return;
@@ -567,6 +567,12 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
   }
   double x0 = quantile(xs, 0.005), x1 = quantile(xs, 0.995);
   double y0 = quantile(ys, 0.005), y1 = quantile(ys, 0.995);
+  // The flat top: points facing up near the object's top (none without normals).
+  std::vector<int> top_face;
+  if (s.has_normals)
+    for (size_t i = 0; i < s.p.size(); ++i)
+      if (s.up[i] > 0.9 && s.p[i].h > s.top - std::max(0.02, 0.15 * s.top))
+        top_face.push_back(static_cast<int>(i));
   if (!sides.empty()) {
     double sx0 = quantile(sx, 0.01), sx1 = quantile(sx, 0.99);
     double sy0 = quantile(sy, 0.01), sy1 = quantile(sy, 0.99);
@@ -574,11 +580,10 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
     // the visible side faces are shorter than it (one of them seen edge-on), the top
     // sets the extent.
     std::vector<double> tx, ty;
-    for (size_t i = 0; i < s.p.size(); ++i)
-      if (s.up[i] > 0.8 && s.p[i].h > s.top - std::max(0.02, 0.15 * s.top)) {
-        tx.push_back(xs[i]);
-        ty.push_back(ys[i]);
-      }
+    for (int i : top_face) {
+      tx.push_back(xs[i]);
+      ty.push_back(ys[i]);
+    }
     if (tx.size() >= 30) {
       sx0 = std::min(sx0, quantile(tx, 0.02));
       sx1 = std::max(sx1, quantile(tx, 0.98));
@@ -628,11 +633,11 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
   c.h0 = 0;
   c.h1 = s.top;
   // A flat top seen from above sets the height (stray points above it do not).
-  std::vector<double> top_h;
-  if (s.has_normals)
-    for (size_t i = 0; i < s.p.size(); ++i)
-      if (s.up[i] > 0.9 && s.p[i].h > s.top - std::max(0.02, 0.15 * s.top)) top_h.push_back(s.p[i].h);
-  if (top_h.size() >= 30 && top_h.size() >= s.p.size() / 10) c.h1 = quantile(top_h, 0.5);
+  if (top_face.size() >= 30 && top_face.size() >= s.p.size() / 10) {
+    std::vector<double> top_h;
+    for (int i : top_face) top_h.push_back(s.p[i].h);
+    c.h1 = quantile(top_h, 0.5);
+  }
   c.valid = c.ey >= params.min_radius_m / 2 && c.ex <= params.max_radius_m * 2 && c.h1 > 0.005;
   return c;
 }

@@ -376,7 +376,8 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
     const Vec3 p = to_vec(f.points[i]);
     // Far away, pixels spread and depth steps grow (1.8 cm at 2.5 m): the radius
     // widens to reach the window's pixels and span the noise, else no plane is found.
-    const double r = std::max({params.mls_radius_m, 3 * kinect_sigma_z(p.z), 1.5 * w * p.z / 525.0});
+    const double pixel_m = p.z / CameraIntrinsics{}.fx;  // Kinect pixel spacing at depth
+    const double r = std::max({params.mls_radius_m, 3 * kinect_sigma_z(p.z), 1.5 * w * pixel_m});
     const double r2 = r * r;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     Eigen::Matrix3d sq = Eigen::Matrix3d::Zero();
