@@ -2,6 +2,7 @@
 // scan, vote and match, track each matched prop, write poses and overlays.
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -69,7 +70,8 @@ int run_run(const std::vector<std::string>& args) {
   const auto parsed = parse_args(
       kName, args,
       {{"window", "stereo", "no-overlays", "points", "realtime"},
-       {"source", "out", "frames", "scan-every", "release-after", "threads", "config", "hmd"}});
+       {"source", "out", "frames", "scan-every", "release-after", "threads", "config", "hmd",
+        "occlusion"}});
   if (!parsed) return kExitBadInput;
   if (parsed->positional.size() != 1)
     return fail("expected one SPEC.haptic (see --help)", kExitBadInput);
@@ -96,6 +98,15 @@ int run_run(const std::vector<std::string>& args) {
   if (!count("frames", max_frames, 0) || !count("scan-every", scan_every, 1) ||
       !count("release-after", release, 1) || !count("threads", threads, 1))
     return kExitBadInput;
+  double occlusion_m = -1;
+  if (auto v = parsed->get("occlusion")) {
+    char* end = nullptr;
+    const std::string text(*v);
+    occlusion_m = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !(occlusion_m >= 0) || occlusion_m > 1)
+      return fail("--occlusion expects a margin in metres from 0 to 1, got '" + text + "'",
+                  kExitBadInput);
+  }
   params.scan_every = static_cast<int>(scan_every);
   params.release_after_frames = static_cast<int>(release);
   params.threads = static_cast<int>(threads);
@@ -216,6 +227,7 @@ int run_run(const std::vector<std::string>& args) {
     rs.camera = *camera;
     rs.background = frame.organized() && !parsed->has("points") ? Background::camera_image
                                                                 : Background::point_cloud;
+    rs.occlusion_margin_m = occlusion_m;
     for (const AnnexedObject& o : r.objects) {
       if (o.track.state == TrackingState::lost) continue;
       const auto v = static_cast<size_t>(o.virtual_index);
@@ -278,7 +290,7 @@ extern const Command kRunCommand = {
     "usage: annex-runtime run SPEC.haptic --source SRC [--out DIR] [--window]\n"
     "                         [--stereo [--hmd HMD.conf]] [--frames N] [--scan-every K]\n"
     "                         [--release-after N] [--threads N] [--config SCAN.conf]\n"
-    "                         [--no-overlays] [--points] [--realtime]\n"
+    "                         [--no-overlays] [--points] [--occlusion M] [--realtime]\n"
     "\n"
     "SRC is a .pcd file, a directory of .pcd frames (name order), an .oni recording,\n"
     "'openni2' (the first device) or 'openni2:URI'. Scans frames until props are found,\n"
@@ -305,6 +317,9 @@ extern const Command kRunCommand = {
     "  --config FILE     scan parameters (samples/config/scan.conf)\n"
     "  --no-overlays     with --out, write only poses.txt and matches.txt\n"
     "  --points          draw the frame as points rather than as the colour image\n"
+    "  --occlusion M     over the colour image, real surfaces more than M metres in\n"
+    "                    front of a virtual model hide it (a hand; its prop, within M,\n"
+    "                    does not); without it the models are drawn over everything\n"
     "  --realtime        deliver recorded frames at their recorded rate\n"
     "\n"
     "Exit 0 on success, 1 when the source fails (a lost sensor, no frame) or no OpenGL\n"

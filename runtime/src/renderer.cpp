@@ -160,6 +160,30 @@ out vec4 frag;
 void main() { frag = vec4(texture(u_image, v_uv).rgb, 1.0); }
 )";
 
+// Occlusion: the sensor's depth image written into the depth buffer (no colour), each
+// pixel's depth pushed back by the margin, so an overlay is hidden only where a real
+// surface lies clearly in front of it. The projection's depth depends on z alone for
+// the sensor's own view, so (0, 0, z) gives every pixel's window depth.
+const char* const kDepthVs = R"(#version 330 core
+void main() {
+  vec2 p = vec2(float(gl_VertexID & 1), float(gl_VertexID >> 1)) * 2.0 - 1.0;
+  gl_Position = vec4(p, 0.0, 1.0);
+}
+)";
+
+const char* const kDepthFs = R"(#version 330 core
+uniform sampler2D u_depth;
+uniform mat4 u_clip_from_sensor;
+uniform int u_x_offset;
+uniform float u_margin;
+void main() {
+  float z = texelFetch(u_depth, ivec2(gl_FragCoord.xy) - ivec2(u_x_offset, 0), 0).r;
+  if (!(z > 0.0)) discard;
+  vec4 c = u_clip_from_sensor * vec4(0.0, 0.0, z + u_margin, 1.0);
+  gl_FragDepth = clamp(0.5 * c.z / c.w + 0.5, 0.0, 1.0);
+}
+)";
+
 Result<GLuint> compile(GLenum type, const char* source, const char* name) {
   const GLuint s = glCreateShader(type);
   glShaderSource(s, 1, &source, nullptr);
@@ -259,9 +283,10 @@ struct Renderer::Impl {
   GLFWwindow* window = nullptr;
   std::string backend;
 
-  GLuint mesh_program = 0, point_program = 0, image_program = 0;
+  GLuint mesh_program = 0, point_program = 0, image_program = 0, depth_program = 0;
   GLint u_eye_from_model = -1, u_normal_matrix = -1, u_clip_from_eye = -1, u_tint = -1, u_lit = -1,
-        u_point_clip = -1, u_image_clip = -1, u_image = -1;
+        u_point_clip = -1, u_image_clip = -1, u_image = -1, u_depth = -1, u_depth_clip = -1,
+        u_depth_x_offset = -1, u_depth_margin = -1;
 
   std::vector<GpuMesh> meshes;
   std::map<std::string, MeshId> mesh_by_path;
@@ -273,6 +298,10 @@ struct Renderer::Impl {
   GLuint points_vao = 0, points_vbo = 0;
   GLuint image_vao = 0, image_vbo = 0, image_tex = 0, image_fbo = 0;
   int tex_width = 0, tex_height = 0;
+  GLuint depth_tex = 0;  // the frame's depth (metres, 0 where invalid) for occlusion
+  int depth_width = 0, depth_height = 0;
+  bool have_depth = false;
+  std::vector<float> z_scratch;            // reused: the frame's depth as an image
   std::vector<std::uint8_t> rgb_scratch;   // reused: the frame's colours as an image
   std::vector<PointXYZRGB> point_scratch;  // reused: the frame's valid points, thinned
   GLsizei point_count = 0;
@@ -327,7 +356,9 @@ Renderer::Impl::~Impl() {
   glDeleteVertexArrays(1, &image_vao);
   glDeleteBuffers(1, &image_vbo);
   glDeleteTextures(1, &image_tex);
+  glDeleteTextures(1, &depth_tex);
   glDeleteFramebuffers(1, &image_fbo);
+  glDeleteProgram(depth_program);
   glDeleteProgram(mesh_program);
   glDeleteProgram(point_program);
   glDeleteProgram(image_program);
@@ -419,6 +450,13 @@ Status Renderer::Impl::init_gl() {
   auto image = link_program(kImageVs, kImageFs, "image");
   if (!image) return image.error();
   image_program = *image;
+  auto depth = link_program(kDepthVs, kDepthFs, "occlusion depth");
+  if (!depth) return depth.error();
+  depth_program = *depth;
+  u_depth = glGetUniformLocation(depth_program, "u_depth");
+  u_depth_clip = glGetUniformLocation(depth_program, "u_clip_from_sensor");
+  u_depth_x_offset = glGetUniformLocation(depth_program, "u_x_offset");
+  u_depth_margin = glGetUniformLocation(depth_program, "u_margin");
   u_eye_from_model = glGetUniformLocation(mesh_program, "u_eye_from_model");
   u_normal_matrix = glGetUniformLocation(mesh_program, "u_normal_matrix");
   u_clip_from_eye = glGetUniformLocation(mesh_program, "u_clip_from_eye");
@@ -463,6 +501,10 @@ Status Renderer::Impl::init_gl() {
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glGenTextures(1, &depth_tex);
+  glBindTexture(GL_TEXTURE_2D, depth_tex);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glBindVertexArray(0);
 
   const GLenum err = glGetError();
@@ -499,7 +541,7 @@ double Renderer::Impl::median_depth(const Frame& frame) {
 
 Status Renderer::Impl::upload_background(const RenderScene& scene, bool& have_image,
                                          bool& have_points) {
-  have_image = have_points = false;
+  have_image = have_points = have_depth = false;
   if (scene.background == Background::clear) return Ok{};
   const Location where{scene.frame != nullptr ? "frame " + std::to_string(scene.frame->index)
                                               : std::string("renderer"),
@@ -569,6 +611,24 @@ Status Renderer::Impl::upload_background(const RenderScene& scene, bool& have_im
                     rgb_scratch.data());
   }
   have_image = true;
+  if (scene.occlusion_margin_m >= 0) {
+    z_scratch.resize(frame.points.size());
+    for (std::size_t i = 0; i < frame.points.size(); ++i) {
+      const float z = frame.points[i].z;
+      z_scratch[i] = std::isfinite(z) && z > 0 ? z : 0.0f;
+    }
+    glBindTexture(GL_TEXTURE_2D, depth_tex);
+    if (frame.width != depth_width || frame.height != depth_height) {
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, frame.width, frame.height, 0, GL_RED, GL_FLOAT,
+                   z_scratch.data());
+      depth_width = frame.width;
+      depth_height = frame.height;
+    } else {
+      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, frame.width, frame.height, GL_RED, GL_FLOAT,
+                      z_scratch.data());
+    }
+    have_depth = true;
+  }
   return Ok{};
 }
 
@@ -590,6 +650,22 @@ void Renderer::Impl::draw_background(const RenderScene& scene, const Eye& eye, i
     glBlitFramebuffer(0, 0, tex_width, tex_height, x_offset, 0, x_offset + tex_width, tex_height,
                       GL_COLOR_BUFFER_BIT, GL_NEAREST);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    if (have_depth) {
+      glEnable(GL_DEPTH_TEST);
+      glDepthFunc(GL_ALWAYS);
+      glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+      glUseProgram(depth_program);
+      glUniformMatrix4fv(u_depth_clip, 1, GL_TRUE, clip.data());
+      glUniform1i(u_depth, 0);
+      glUniform1i(u_depth_x_offset, x_offset);
+      glUniform1f(u_depth_margin, static_cast<float>(scene.occlusion_margin_m));
+      glActiveTexture(GL_TEXTURE0);
+      glBindTexture(GL_TEXTURE_2D, depth_tex);
+      glBindVertexArray(image_vao);
+      glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      glDepthFunc(GL_LESS);
+    }
   } else if (have_image) {
     // The camera's image plane at depth d: its pixel corners back-projected through
     // the camera's intrinsics. Seen from the sensor itself it fills the view exactly.

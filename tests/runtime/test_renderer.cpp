@@ -493,6 +493,45 @@ TEST_F(RendererTest, CameraImageLinesUpWithThePixels) {
     }
 }
 
+TEST_F(RendererTest, RealSurfacesInFrontOfAnOverlayHideItOnlyWhenAsked) {
+  // A 64x48 frame: a near surface (0.5 m) on the left third, the annexed prop's own
+  // surface 1.5 cm in front of the overlay in the middle, far floor (2 m) on the right;
+  // the image is green, NaN in row 0. A red plate fills the view at 1 m.
+  const CameraIntrinsics k{64, 48, 52.5, 52.5, 31.5, 23.5};
+  Frame f;
+  f.width = 64;
+  f.height = 48;
+  for (int v = 0; v < 48; ++v)
+    for (int u = 0; u < 64; ++u) {
+      PointXYZRGB p;
+      p.z = u < 21 ? 0.5f : u < 42 ? 0.985f : 2.0f;
+      if (v == 0) p.z = std::numeric_limits<float>::quiet_NaN();
+      p.x = (u - 31.5f) / 52.5f * p.z;
+      p.y = (v - 23.5f) / 52.5f * p.z;
+      p.g = 200;
+      f.points.push_back(p);
+    }
+  auto plate = renderer_->add_mesh(primitive_mesh(ShapeKind::box, {4, 4, 0.01}), "wide plate");
+  ASSERT_TRUE(plate.ok());
+  RenderScene s;
+  s.frame = &f;
+  s.background = Background::camera_image;
+  s.camera = k;
+  s.overlays = {{*plate, translation({0, 0, 1.0}), {1, 0, 0, 1}, OverlayStyle::solid}};
+  const Eye eye = sensor_eye(k);
+  auto over = renderer_->render(s, std::span(&eye, 1));
+  ASSERT_TRUE(over.ok()) << over.error().format();
+  for (int u : {5, 30, 55}) EXPECT_GT(pixel(*over, u, 24)[0], 0) << u;  // default: on top
+  s.occlusion_margin_m = 0.03;
+  auto occluded = renderer_->render(s, std::span(&eye, 1));
+  ASSERT_TRUE(occluded.ok()) << occluded.error().format();
+  EXPECT_EQ(pixel(*occluded, 5, 24)[0], 0);  // the near surface hides the plate
+  EXPECT_EQ(pixel(*occluded, 5, 24)[1], 200);
+  EXPECT_GT(pixel(*occluded, 30, 24)[0], 0);  // the prop, within the margin, does not
+  EXPECT_GT(pixel(*occluded, 55, 24)[0], 0);  // the far floor is behind the plate
+  EXPECT_GT(pixel(*occluded, 5, 0)[0], 0);    // no depth: no occlusion
+}
+
 TEST_F(RendererTest, PointCloudDrawsPointsWhereTheyProjectAndSkipsNaN) {
   Frame f;
   f.width = 3;

@@ -256,6 +256,17 @@ TEST(RunCommand, RejectsAMissingSource) {
   EXPECT_NE(run.output.find("--source"), std::string::npos) << run.output;
 }
 
+TEST(RunCommand, RejectsABadOcclusionMargin) {
+  for (const char* bad : {"-0.1", "abc", "2"}) {
+    const test::CliRun run =
+        test::run_cli("run " + test::source_path("samples/specs/study.haptic") + " --source " +
+                      test::source_path("samples/recordings/tabletop") + " --occlusion " + bad);
+    EXPECT_EQ(run.exit_code, 2) << bad;
+    EXPECT_NE(run.output.find("--occlusion expects a margin in metres"), std::string::npos)
+        << run.output;
+  }
+}
+
 // The PCL grabber's three frames: a white box beside a laptop, a handheld sensor.
 TEST(AnnexSession, TracksTheBoxAcrossTheRealFrames) {
   const std::filesystem::path dir = std::filesystem::path(ANNEX_SHARED_DIR) / "data" / "real";

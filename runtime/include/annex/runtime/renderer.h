@@ -98,6 +98,12 @@ struct RenderScene {
   // (0: the median depth of the frame), so both HMD eyes see it with a plausible
   // parallax. The sensor's own view is exact at any depth.
   double image_depth_m = 0;
+  // Camera image background, sensor's own view: real surfaces nearer than an overlay by
+  // more than this margin hide it (a hand in front of a virtual object), while the
+  // annexed prop's own surface, close to its overlay, does not. Negative (the default):
+  // overlays are drawn over the whole image. Eyes away from the sensor see the image
+  // as a plane and are never occluded.
+  double occlusion_margin_m = -1;
 };
 
 // Sensor-to-HMD extrinsics and the HMD's two displays (samples/config/hmd.conf).
