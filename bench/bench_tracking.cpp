@@ -1,7 +1,10 @@
 // Tracking benchmarks (docs/BENCHMARKS.md, "Tracking"): one PoseTracker step per
-// object per frame, the InitialAligner (seeded, and the FPFH fallback), and the whole
-// runtime loop on a 640x480 stream with 3 tracked props (no rendering).
+// object per frame, our ICP next to PCL's on the same target volumes, the
+// InitialAligner (seeded, and the FPFH fallback), and the whole runtime loop on a
+// 640x480 stream with 3 tracked props (no rendering).
 #include <benchmark/benchmark.h>
+#include <pcl/point_types.h>
+#include <pcl/registration/icp.h>
 
 #include <cmath>
 #include <numbers>
@@ -80,6 +83,91 @@ BENCHMARK(BM_TrackStepPerObject)
     ->Arg(2)
     ->Iterations(600)
     ->Unit(benchmark::kMillisecond);
+
+// One ICP per frame on fixed inputs: the target volume around the previous true pose
+// and that pose as the start, so both ICPs solve the same problems.
+struct IcpCase {
+  TargetCloud target;
+  Pose initial, truth;
+};
+
+std::vector<IcpCase> icp_cases(const Sequence& s, const ObjectTrack& t, int i) {
+  std::vector<IcpCase> cases;
+  for (int k = 1; k < kFrames; ++k) {
+    IcpCase c;
+    c.initial = truth_pose(s.scene, i, k - 1);
+    c.truth = truth_pose(s.scene, i, k);
+    c.target = segment_target_volume(s.frames[static_cast<size_t>(k)].frame, s.camera,
+                                     c.initial.position, t.model->radius_m + 0.03,
+                                     s.frames[0].truth.support);
+    cases.push_back(std::move(c));
+  }
+  return cases;
+}
+
+// Ours: point-to-plane, voxel-hash neighbours, symmetric rotations left out.
+void BM_IcpOurs(benchmark::State& state) {
+  const Sequence s = make_sequence();
+  const int i = static_cast<int>(state.range(0));
+  const ObjectTrack t = track_for(s, i);
+  const std::vector<IcpCase> cases = icp_cases(s, t, i);
+  double error_mm = 0;
+  size_t k = 0;
+  for (auto _ : state) {
+    const IcpCase& c = cases[k];
+    const IcpResult r = track_icp(*t.model, c.target, c.initial);
+    error_mm += norm(r.pose.position - c.truth.position) * 1000;
+    k = (k + 1) % cases.size();
+  }
+  state.counters["error_mm"] = benchmark::Counter(error_mm, benchmark::Counter::kAvgIterations);
+  state.SetLabel(std::string(shape_name(s.scene.objects[static_cast<size_t>(i)].kind)));
+}
+BENCHMARK(BM_IcpOurs)->Arg(0)->Arg(1)->Arg(2)->Iterations(220)->Unit(benchmark::kMillisecond);
+
+// PCL 1.13's pcl::IterativeClosestPoint (point-to-point, kd-tree) with the same
+// correspondence distance (2 cm) and iteration cap (20).
+void BM_IcpPcl(benchmark::State& state) {
+  const Sequence s = make_sequence();
+  const int i = static_cast<int>(state.range(0));
+  const ObjectTrack t = track_for(s, i);
+  const std::vector<IcpCase> cases = icp_cases(s, t, i);
+  auto to_cloud = [](const std::vector<Vec3>& pts, const Pose& pose) {
+    auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+    for (const Vec3& p : pts) {
+      const Vec3 q = pose.position + rotate(pose.rotation, p);
+      cloud->push_back({static_cast<float>(q.x), static_cast<float>(q.y), static_cast<float>(q.z)});
+    }
+    return cloud;
+  };
+  std::vector<pcl::PointCloud<pcl::PointXYZ>::Ptr> sources, targets;
+  for (const IcpCase& c : cases) {
+    sources.push_back(to_cloud(t.model->points, c.initial));
+    targets.push_back(to_cloud(c.target.points, Pose{}));
+  }
+  double error_mm = 0;
+  size_t k = 0;
+  pcl::PointCloud<pcl::PointXYZ> aligned;
+  for (auto _ : state) {
+    pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+    icp.setInputSource(sources[k]);
+    icp.setInputTarget(targets[k]);
+    icp.setMaxCorrespondenceDistance(0.02);
+    icp.setMaximumIterations(20);
+    icp.setTransformationEpsilon(1e-8);
+    icp.align(aligned);
+    // The model's origin moved by the final transform: compare it with the truth.
+    const Eigen::Matrix4f m = icp.getFinalTransformation();
+    const Vec3 o = cases[k].initial.position;
+    const Vec3 moved{m(0, 0) * o.x + m(0, 1) * o.y + m(0, 2) * o.z + m(0, 3),
+                     m(1, 0) * o.x + m(1, 1) * o.y + m(1, 2) * o.z + m(1, 3),
+                     m(2, 0) * o.x + m(2, 1) * o.y + m(2, 2) * o.z + m(2, 3)};
+    error_mm += norm(moved - cases[k].truth.position) * 1000;
+    k = (k + 1) % cases.size();
+  }
+  state.counters["error_mm"] = benchmark::Counter(error_mm, benchmark::Counter::kAvgIterations);
+  state.SetLabel(std::string(shape_name(s.scene.objects[static_cast<size_t>(i)].kind)));
+}
+BENCHMARK(BM_IcpPcl)->Arg(0)->Arg(1)->Arg(2)->Iterations(220)->Unit(benchmark::kMillisecond);
 
 // Re-initialisation: the object 3 cm and 30 degrees from its last pose; seeded aligner.
 void BM_InitialAlignSeeded(benchmark::State& state) {

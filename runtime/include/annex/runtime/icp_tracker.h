@@ -2,7 +2,7 @@
 // IcpTracker (paper, "Object Tracking"): refines an object's pose each frame by ICP of
 // its source model (the points the scan kept when it was matched) against the points
 // of its target volume. Point-to-plane with grid normals, nearest neighbours from a
-// voxel hash of the target; rotations a symmetric primitive cannot show are not
+// small balanced kd-tree of the target; rotations a symmetric primitive cannot show are not
 // estimated (docs/tracking.md, "Symmetry").
 
 #include <memory>
