@@ -1,8 +1,16 @@
 // The panels on a headless ImGui context (no GL, like imgui's example_null): drawing
-// them emits no edits by itself, the camera orbits, and dragging a handle moves the
-// selected primitive as one undo step.
+// them emits no edits by itself, the camera orbits, dragging a handle moves the
+// selected primitive as one undo step, and the modal prompts and the file dialog
+// answer clicks on their buttons.
 #include <gtest/gtest.h>
 #include <imgui.h>
+#include <imgui_internal.h>
+
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <variant>
+#include <unistd.h>
 
 #include "panels.h"
 #include "view.h"
@@ -46,10 +54,147 @@ class HeadlessPanels : public ::testing::Test {
     return out;
   }
 
+  // The position of the widget `label` in the window whose name starts with `window`
+  // (a child window's name starts with its parent's), found by hovering: the mouse
+  // sweeps the window one frame per spot until ImGui reports that widget hovered.
+  // `scopes` are the PushID()s around the widget (strings, or ints as in PushID(int)).
+  std::optional<ImVec2> locate(const std::string& window, const char* label,
+                               const std::vector<std::variant<const char*, int>>& scopes = {}) {
+    frame(ImVec2(-100, -100), false);  // a popup opened last frame appears in this one
+    for (ImGuiWindow* w : GImGui->Windows) {
+      if (!w->Active || std::string(w->Name).rfind(window, 0) != 0) continue;
+      ImGuiID seed = w->ID;
+      for (const auto& scope : scopes)
+        seed = std::holds_alternative<int>(scope)
+                   ? ImHashData(&std::get<int>(scope), sizeof(int), seed)
+                   : ImHashStr(std::get<const char*>(scope), 0, seed);
+      const ImGuiID id = ImHashStr(label, 0, seed);
+      for (float y = w->Pos.y + 2; y < w->Pos.y + w->Size.y; y += 4)
+        for (float x = w->Pos.x + 2; x < w->Pos.x + w->Size.x; x += 8) {
+          frame(ImVec2(x, y), false);
+          if (GImGui->HoveredId == id) return ImVec2(x, y);
+        }
+    }
+    return std::nullopt;
+  }
+
+  // Presses and releases the left button at `at`; returns the app actions requested.
+  std::vector<AppAction> click(ImVec2 at) {
+    frame(at, true);
+    ImGuiIO& io = ImGui::GetIO();
+    io.MousePos = at;
+    io.MouseDown[0] = false;
+    ImGui::NewFrame();
+    draw_editor(doc, ui, queue);
+    ImGui::Render();
+    std::vector<AppAction> out = queue.actions;
+    queue = CommandQueue{};
+    return out;
+  }
+
   EditorDocument doc;
   UiState ui;
   CommandQueue queue;
 };
+
+AppAction action(AppAction::Kind kind, std::string path = {}) {
+  AppAction a;
+  a.kind = kind;
+  a.path = std::move(path);
+  return a;
+}
+
+TEST_F(HeadlessPanels, UnsavedPromptDontSaveGoesOnConfirmed) {
+  ui.prompts.unsaved = action(AppAction::Kind::open, "/tmp/other.haptic");
+  ui.prompts.unsaved_open_requested = true;
+  const auto dont = locate("Unsaved changes", "Don't save");
+  ASSERT_TRUE(dont.has_value());
+  const std::vector<AppAction> got = click(*dont);
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_EQ(got[0].kind, AppAction::Kind::open);
+  EXPECT_EQ(got[0].path, "/tmp/other.haptic");
+  EXPECT_TRUE(got[0].confirmed);
+  EXPECT_FALSE(ui.prompts.unsaved.has_value());
+}
+
+TEST_F(HeadlessPanels, UnsavedPromptCancelDropsTheActionAndUntitledCannotSave) {
+  ui.prompts.unsaved = action(AppAction::Kind::quit);
+  ui.prompts.unsaved_open_requested = true;
+  // An untitled spec has nowhere to save to: Save is disabled and does nothing.
+  const auto save = locate("Unsaved changes", "Save");
+  ASSERT_TRUE(save.has_value());
+  EXPECT_TRUE(click(*save).empty());
+  EXPECT_TRUE(ui.prompts.unsaved.has_value());
+  const auto cancel = locate("Unsaved changes", "Cancel");
+  ASSERT_TRUE(cancel.has_value());
+  EXPECT_TRUE(click(*cancel).empty());
+  EXPECT_FALSE(ui.prompts.unsaved.has_value());
+  EXPECT_FALSE(locate("Unsaved changes", "Cancel").has_value());  // closed
+}
+
+TEST_F(HeadlessPanels, RecoverPromptRecoversOrDiscards) {
+  for (const char* button : {"Recover", "Discard autosave"}) {
+    ui.prompts.recover = "/tmp/spec.haptic";
+    ui.prompts.recover_open_requested = true;
+    const auto at = locate("Recover unsaved work", button);
+    ASSERT_TRUE(at.has_value()) << button;
+    const std::vector<AppAction> got = click(*at);
+    ASSERT_EQ(got.size(), 1u) << button;
+    EXPECT_EQ(got[0].kind, std::string(button) == "Recover" ? AppAction::Kind::recover
+                                                            : AppAction::Kind::discard_recovery);
+    EXPECT_EQ(got[0].path, "/tmp/spec.haptic");
+    EXPECT_FALSE(ui.prompts.recover.has_value());
+  }
+}
+
+TEST_F(HeadlessPanels, DraggingARankOntoAnotherReordersThePrimitives) {
+  ASSERT_TRUE(doc.apply(cmd::Select{{0, -1}}));
+  ui.rank_mode = true;
+  const auto body = locate("Priorities", "#1  body", {"primitives", 0});
+  const auto neck = locate("Priorities", "#2  neck", {"primitives", 1});
+  ASSERT_TRUE(body.has_value());
+  ASSERT_TRUE(neck.has_value());
+  const std::size_t steps = doc.history().size();
+  // Press on the neck, drag it past ImGui's drag threshold and onto the body, release.
+  frame(*neck, true);
+  for (int i = 1; i <= 4; ++i)
+    frame(ImVec2(neck->x, neck->y + (body->y - neck->y) * i / 4.f), true);
+  frame(*body, true);
+  frame(*body, false);
+  const auto& prims = doc.spec().objects[0].primitives;
+  EXPECT_GT(prims[1].weight, prims[0].weight);  // the neck now ranks first
+  EXPECT_DOUBLE_EQ(prims[1].weight, 1.0);       // rank 1 of 2: (2 - 0) / 2
+  EXPECT_DOUBLE_EQ(prims[0].weight, 0.5);       // rank 2 of 2: (2 - 1) / 2
+  EXPECT_EQ(doc.history().size(), steps + 1);   // one undo step
+  ASSERT_TRUE(doc.apply(cmd::Undo{}));
+  EXPECT_EQ(doc.spec().objects[0].primitives[1].weight, doc.spec().objects[0].primitives[0].weight);
+}
+
+TEST_F(HeadlessPanels, FileDialogListsMatchingFilesAndOpensTheChosenOne) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("annex_file_dialog_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir / "models");
+  std::ofstream(dir / "a.haptic") << "annex-haptic 1\n";
+  std::ofstream(dir / "notes.txt") << "not a spec\n";
+  ui.file_dialog.open_requested = true;
+  ui.file_dialog.purpose = AppAction::Kind::open;
+  ui.file_dialog.title = "Open a haptic spec";
+  ui.file_dialog.directory = dir.string();
+  ui.file_dialog.extensions = {".haptic"};
+  // Only .haptic files and folders are listed.
+  EXPECT_FALSE(locate("File##dialog/entries", "notes.txt").has_value());
+  const auto entry = locate("File##dialog/entries", "a.haptic");
+  ASSERT_TRUE(entry.has_value());
+  EXPECT_TRUE(click(*entry).empty());
+  EXPECT_EQ(ui.file_dialog.filename, "a.haptic");
+  const auto ok = locate("File##dialog", "OK");
+  ASSERT_TRUE(ok.has_value());
+  const std::vector<AppAction> got = click(*ok);
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_EQ(got[0].kind, AppAction::Kind::open);
+  EXPECT_EQ(std::filesystem::path(got[0].path), dir / "a.haptic");
+  std::filesystem::remove_all(dir);
+}
 
 TEST_F(HeadlessPanels, DrawingAloneRequestsNoEdits) {
   const HapticSpec before = doc.spec();
