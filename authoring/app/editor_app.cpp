@@ -139,7 +139,7 @@ std::optional<AppOptions> parse_options(int argc, char** argv, int& exit_code) {
 
 EditorApp::EditorApp(AppOptions options) : options_(std::move(options)) {
   ui_.samples_dir = find_samples_dir();
-  ui_.viewport =
+  ui_.layout.viewport =
       compute_layout(static_cast<float>(options_.width), static_cast<float>(options_.height), 19.f)
           .viewport;
   last_autosave_ = std::chrono::steady_clock::now();

@@ -166,10 +166,8 @@ void draw_primitive(const EditorDocument& doc, UiState& ui, CommandQueue& queue,
 
 }  // namespace
 
-void draw_inspector(const EditorDocument& doc, UiState& ui, CommandQueue& queue,
-                    const Rect& where) {
-  ImGui::SetNextWindowPos(ImVec2(where.x, where.y));
-  ImGui::SetNextWindowSize(ImVec2(where.w, where.h));
+void draw_inspector(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
+  place_next_window(ui.layout.inspector);
   if (!ImGui::Begin(
           "Inspector", nullptr,
           ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse)) {

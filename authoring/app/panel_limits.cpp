@@ -6,9 +6,8 @@
 
 namespace annex::authoring {
 
-void draw_limits(const EditorDocument& doc, UiState& ui, CommandQueue& queue, const Rect& where) {
-  ImGui::SetNextWindowPos(ImVec2(where.x, where.y));
-  ImGui::SetNextWindowSize(ImVec2(where.w, where.h));
+void draw_limits(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
+  place_next_window(ui.layout.limits);
   if (!ImGui::Begin(
           "Scaling limits", nullptr,
           ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse)) {

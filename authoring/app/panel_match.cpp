@@ -30,10 +30,8 @@ std::string terms_text(const VoteExplanation& e) {
 
 }  // namespace
 
-void draw_match_preview(const EditorDocument& doc, UiState& ui, CommandQueue& queue,
-                        const Rect& where) {
-  ImGui::SetNextWindowPos(ImVec2(where.x, where.y));
-  ImGui::SetNextWindowSize(ImVec2(where.w, where.h));
+void draw_match_preview(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
+  place_next_window(ui.layout.match);
   if (!ImGui::Begin(
           "Match preview", nullptr,
           ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse)) {

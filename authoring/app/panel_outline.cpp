@@ -3,9 +3,8 @@
 
 namespace annex::authoring {
 
-void draw_outline(const EditorDocument& doc, UiState& ui, CommandQueue& queue, const Rect& where) {
-  ImGui::SetNextWindowPos(ImVec2(where.x, where.y));
-  ImGui::SetNextWindowSize(ImVec2(where.w, where.h));
+void draw_outline(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
+  place_next_window(ui.layout.outline);
   if (!ImGui::Begin(
           "Scene outline", nullptr,
           ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse)) {

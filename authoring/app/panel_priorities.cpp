@@ -71,10 +71,8 @@ void weight_slider(const std::string& label, double value, CommandQueue& queue, 
 
 }  // namespace
 
-void draw_priorities(const EditorDocument& doc, UiState& ui, CommandQueue& queue,
-                     const Rect& where) {
-  ImGui::SetNextWindowPos(ImVec2(where.x, where.y));
-  ImGui::SetNextWindowSize(ImVec2(where.w, where.h));
+void draw_priorities(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
+  place_next_window(ui.layout.priorities);
   if (!ImGui::Begin(
           "Priorities", nullptr,
           ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse)) {

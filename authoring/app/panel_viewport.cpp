@@ -65,10 +65,10 @@ Handles compute_handles(const EditorDocument& doc, const UiState& ui, const glm:
   if (pl == nullptr) return h;
   h.world_len = ui.camera.distance_m * 0.16f;
   const glm::mat4 m = pl->model * primitive_matrix(prim);
-  if (!project(view_proj, ui.viewport, glm::vec3(m[3]), h.center)) return h;
+  if (!project(view_proj, ui.layout.viewport, glm::vec3(m[3]), h.center)) return h;
   for (int k = 0; k < 3; ++k) {
     const glm::vec3 dir = glm::normalize(glm::vec3(m[k]));
-    if (!project(view_proj, ui.viewport, glm::vec3(m[3]) + dir * h.world_len, h.tips[k])) return h;
+    if (!project(view_proj, ui.layout.viewport, glm::vec3(m[3]) + dir * h.world_len, h.tips[k])) return h;
     const Vec3 e{k == 0 ? 1.0 : 0.0, k == 1 ? 1.0 : 0.0, k == 2 ? 1.0 : 0.0};
     h.axes_obj[k] = rotate(prim.pose.rotation, e);
   }
@@ -107,7 +107,7 @@ void drag_handle(const EditorDocument& doc, UiState& ui, CommandQueue& queue, co
 void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b) {
   ui.box_start = a;
   ui.box_end = b;
-  const Rect& vp = ui.viewport;
+  const Rect& vp = ui.layout.viewport;
   const glm::mat4 view_proj = projection_matrix(ui.camera, vp.w / vp.h) * view_matrix(ui.camera);
   const std::vector<Placement> placed = place_objects(doc, ui);
   ui.box_points.clear();
@@ -128,7 +128,7 @@ void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b) {
   for (std::size_t i = 0; i < mesh->vertex_count(); ++i) {
     const Vec3 v = mesh->vertex(i);
     ImVec2 s;
-    if (!project(mvp, ui.viewport, glm::vec3(v.x, v.y, v.z), s)) continue;
+    if (!project(mvp, ui.layout.viewport, glm::vec3(v.x, v.y, v.z), s)) continue;
     if (s.x >= x0 && s.x <= x1 && s.y >= y0 && s.y <= y1) ui.box_points.push_back(v);
   }
   char buf[96];
@@ -171,7 +171,7 @@ void handle_keys(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
 }
 
 void draw_toolbar(UiState& ui, CommandQueue& queue) {
-  ImGui::SetNextWindowPos(ImVec2(ui.viewport.x + 8, ui.viewport.y + 8));
+  ImGui::SetNextWindowPos(ImVec2(ui.layout.viewport.x + 8, ui.layout.viewport.y + 8));
   ImGui::SetNextWindowBgAlpha(0.55f);
   const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
                                  ImGuiWindowFlags_NoSavedSettings |
@@ -200,7 +200,7 @@ void draw_toolbar(UiState& ui, CommandQueue& queue) {
 void draw_viewport(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
   draw_toolbar(ui, queue);
   ImGuiIO& io = ImGui::GetIO();
-  const Rect& vp = ui.viewport;
+  const Rect& vp = ui.layout.viewport;
   const glm::mat4 view_proj = projection_matrix(ui.camera, vp.w / vp.h) * view_matrix(ui.camera);
   const std::vector<Placement> placed = place_objects(doc, ui);
   const Handles handles = compute_handles(doc, ui, view_proj, placed);
@@ -343,17 +343,21 @@ void section(const char* title) {
   ImGui::Separator();
 }
 
+void place_next_window(const Rect& r) {
+  ImGui::SetNextWindowPos(ImVec2(r.x, r.y));
+  ImGui::SetNextWindowSize(ImVec2(r.w, r.h));
+}
+
 void draw_editor(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
   const ImGuiIO& io = ImGui::GetIO();
   draw_menu_bar(doc, ui, queue);
   const float menu_h = ImGui::GetFrameHeight();
-  const Layout l = compute_layout(io.DisplaySize.x, io.DisplaySize.y, menu_h);
-  ui.viewport = l.viewport;
-  draw_outline(doc, ui, queue, l.outline);
-  draw_priorities(doc, ui, queue, l.priorities);
-  draw_inspector(doc, ui, queue, l.inspector);
-  draw_limits(doc, ui, queue, l.limits);
-  draw_match_preview(doc, ui, queue, l.match);
+  ui.layout = compute_layout(io.DisplaySize.x, io.DisplaySize.y, menu_h);
+  draw_outline(doc, ui, queue);
+  draw_priorities(doc, ui, queue);
+  draw_inspector(doc, ui, queue);
+  draw_limits(doc, ui, queue);
+  draw_match_preview(doc, ui, queue);
   draw_viewport(doc, ui, queue);
   draw_dialogs(doc, ui, queue);
 }

@@ -9,13 +9,12 @@
 namespace annex::authoring {
 
 void draw_menu_bar(const EditorDocument& doc, UiState& ui, CommandQueue& queue);
-void draw_outline(const EditorDocument& doc, UiState& ui, CommandQueue& queue, const Rect& where);
-void draw_inspector(const EditorDocument& doc, UiState& ui, CommandQueue& queue, const Rect& where);
-void draw_priorities(const EditorDocument& doc, UiState& ui, CommandQueue& queue,
-                     const Rect& where);
-void draw_limits(const EditorDocument& doc, UiState& ui, CommandQueue& queue, const Rect& where);
-void draw_match_preview(const EditorDocument& doc, UiState& ui, CommandQueue& queue,
-                        const Rect& where);
+// The side panels, each in its rectangle of ui.layout.
+void draw_outline(const EditorDocument& doc, UiState& ui, CommandQueue& queue);
+void draw_inspector(const EditorDocument& doc, UiState& ui, CommandQueue& queue);
+void draw_priorities(const EditorDocument& doc, UiState& ui, CommandQueue& queue);
+void draw_limits(const EditorDocument& doc, UiState& ui, CommandQueue& queue);
+void draw_match_preview(const EditorDocument& doc, UiState& ui, CommandQueue& queue);
 // Camera input, viewport handles, box selection, overlay labels (no GL: ImGui draw lists).
 void draw_viewport(const EditorDocument& doc, UiState& ui, CommandQueue& queue);
 // Selects the vertices of the selected object's mesh whose projections fall in the
@@ -29,6 +28,8 @@ void open_file_dialog(UiState& ui, AppAction::Kind purpose, const EditorDocument
 
 // A labelled separator (ImGui 1.86 has no SeparatorText).
 void section(const char* title);
+// The next window fills `r` (the fixed layout: 1.86 has no docking).
+void place_next_window(const Rect& r);
 
 // All of the above for one frame, in the fixed layout.
 void draw_editor(const EditorDocument& doc, UiState& ui, CommandQueue& queue);

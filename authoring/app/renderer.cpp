@@ -285,7 +285,7 @@ void Renderer::draw_lines(const std::vector<LineVertex>& lines, const float* vie
 
 void Renderer::draw(const EditorDocument& doc, const UiState& ui, int fb_width, int fb_height,
                     float scale) {
-  const Rect& vp = ui.viewport;
+  const Rect& vp = ui.layout.viewport;
   const int x = static_cast<int>(vp.x * scale), w = static_cast<int>(vp.w * scale);
   const int h = static_cast<int>(vp.h * scale);
   const int y = fb_height - static_cast<int>((vp.y + vp.h) * scale);

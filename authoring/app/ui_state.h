@@ -43,6 +43,11 @@ struct Rect {
   bool contains(ImVec2 p) const { return p.x >= x && p.y >= y && p.x < x + w && p.y < y + h; }
 };
 
+// Where the panels and the 3D viewport sit this frame (compute_layout, view.h).
+struct Layout {
+  Rect outline, priorities, inspector, limits, match, viewport;
+};
+
 // A modal asking for a file path (ImGui 1.86 has no file dialog).
 struct FileDialog {
   bool open_requested = false;
@@ -63,7 +68,7 @@ struct Prompts {
 
 struct UiState {
   Camera camera;
-  Rect viewport;
+  Layout layout;
   GizmoMode gizmo = GizmoMode::move;
   HandleDrag drag;
   bool orbiting = false;

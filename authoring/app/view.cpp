@@ -96,7 +96,7 @@ void object_bounds(const EditorDocument& doc, int o, glm::vec3& lo, glm::vec3& h
 }
 
 int pick_object(const EditorDocument& doc, const UiState& ui, ImVec2 screen) {
-  const Rect& vp = ui.viewport;
+  const Rect& vp = ui.layout.viewport;
   const glm::mat4 view_proj = projection_matrix(ui.camera, vp.w / vp.h) * view_matrix(ui.camera);
   const glm::vec3 eye = camera_position(ui.camera);
   int best = -1;
@@ -206,7 +206,7 @@ void frame_all(const EditorDocument& doc, UiState& ui) {
   ui.camera.target[0] = c.x;
   ui.camera.target[1] = c.y;
   ui.camera.target[2] = c.z;
-  const float aspect = ui.viewport.h > 0 ? ui.viewport.w / ui.viewport.h : 1.6f;
+  const float aspect = ui.layout.viewport.h > 0 ? ui.layout.viewport.w / ui.layout.viewport.h : 1.6f;
   const float half = glm::radians(ui.camera.fov_deg) * 0.5f * std::min(1.f, aspect);
   ui.camera.distance_m = radius / std::sin(half) * 1.2f;
 }

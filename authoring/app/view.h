@@ -13,9 +13,6 @@
 
 namespace annex::authoring {
 
-struct Layout {
-  Rect outline, priorities, inspector, limits, match, viewport;
-};
 // Debian's ImGui 1.86 has no docking: panels sit at fixed places around the viewport.
 Layout compute_layout(float width, float height, float menu_height);
 

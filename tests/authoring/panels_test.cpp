@@ -201,15 +201,15 @@ TEST_F(HeadlessPanels, DrawingAloneRequestsNoEdits) {
   for (int i = 0; i < 4; ++i) EXPECT_TRUE(frame(ImVec2(-100, -100), false).empty());
   EXPECT_EQ(doc.spec(), before);
   // The layout leaves the viewport between the panels.
-  EXPECT_GT(ui.viewport.w, 500.f);
-  EXPECT_GT(ui.viewport.x, 200.f);
-  EXPECT_LT(ui.viewport.x + ui.viewport.w, 1400.f);
+  EXPECT_GT(ui.layout.viewport.w, 500.f);
+  EXPECT_GT(ui.layout.viewport.x, 200.f);
+  EXPECT_LT(ui.layout.viewport.x + ui.layout.viewport.w, 1400.f);
 }
 
 TEST_F(HeadlessPanels, DraggingEmptyViewportOrbitsTheCamera) {
   ASSERT_TRUE(doc.apply(cmd::Select{{0, -1}}));  // no primitive: no handles
   frame(ImVec2(-100, -100), false);
-  const ImVec2 c(ui.viewport.x + ui.viewport.w * 0.8f, ui.viewport.y + ui.viewport.h * 0.8f);
+  const ImVec2 c(ui.layout.viewport.x + ui.layout.viewport.w * 0.8f, ui.layout.viewport.y + ui.layout.viewport.h * 0.8f);
   const float yaw = ui.camera.yaw_deg;
   EXPECT_TRUE(frame(c, true).empty());
   EXPECT_TRUE(frame(ImVec2(c.x + 50, c.y), true).empty());
@@ -223,7 +223,7 @@ TEST_F(HeadlessPanels, ClickingAnObjectSelectsIt) {
   ASSERT_TRUE(doc.apply(cmd::Select{{1, -1}}));
   frame(ImVec2(-100, -100), false);
   // Click on the first object's primitive centre.
-  const Rect& vp = ui.viewport;
+  const Rect& vp = ui.layout.viewport;
   const glm::mat4 vpm = projection_matrix(ui.camera, vp.w / vp.h) * view_matrix(ui.camera);
   const glm::mat4 m =
       place_objects(doc, ui)[0].model * primitive_matrix(doc.spec().objects[0].primitives[0]);
@@ -244,7 +244,7 @@ TEST_F(HeadlessPanels, HandleDragMovesThePrimitiveInOneUndoStep) {
   frame(ImVec2(-100, -100), false);  // lays out the viewport
   ui.gizmo = GizmoMode::move;
   // Where the X handle is drawn: from the primitive's centre along its local x.
-  const Rect& vp = ui.viewport;
+  const Rect& vp = ui.layout.viewport;
   const glm::mat4 vpm = projection_matrix(ui.camera, vp.w / vp.h) * view_matrix(ui.camera);
   const glm::mat4 m =
       place_objects(doc, ui)[0].model * primitive_matrix(doc.spec().objects[0].primitives[0]);
