@@ -14,6 +14,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <deque>
 #include <numeric>
 #include <random>
@@ -544,7 +545,20 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   auto t0 = Clock::now();
   std::vector<int> strided;
   const PlaneSearch ps = find_plane(f, params, up, strided, rng);
-  if (strided.size() < 50) return Error{"the frame has no valid depth points", where};
+  if (strided.size() < 50) {
+    // Valid points that all lie beyond the range are most often a cloud in millimetres.
+    std::vector<float> far;
+    for (size_t i = 0; i < f.points.size(); i += 97)
+      if (valid(f.points[i])) far.push_back(f.points[i].z);
+    if (far.size() < 10) return Error{"the frame has no valid depth points", where};
+    std::nth_element(far.begin(), far.begin() + far.size() / 2, far.end());
+    const double median = far[far.size() / 2];
+    char text[160];
+    std::snprintf(text, sizeof text, "no depth within max_depth_m (%g m): the median depth is %g%s",
+                  params.max_depth_m, median,
+                  median > 50 ? "; Annex expects metres (is this cloud in millimetres?)" : "");
+    return Error{text, where};
+  }
   const int stride = std::max(1, params.pixel_stride);
   if (!ps.plane.ok || ps.inliers * stride * stride < params.min_plane_points)
     return Error{"no horizontal plane found (support must be within " +

@@ -183,6 +183,22 @@ TEST(Scanner, NoHorizontalPlaneIsAnError) {
   EXPECT_NE(scan.error().message.find("no horizontal plane"), std::string::npos);
 }
 
+TEST(Scanner, CloudInMillimetresIsNamedAsSuch) {
+  SyntheticSceneParams p;
+  p.seed = 3;
+  Frame f = render_scene(generate_scene(p).value()).frame;
+  for (PointXYZRGB& q : f.points) {
+    q.x *= 1000;
+    q.y *= 1000;
+    q.z *= 1000;
+  }
+  const Result<ScanResult> scan = scan_frame(f);
+  ASSERT_FALSE(scan.ok());
+  EXPECT_NE(scan.error().message.find("no depth within max_depth_m (4 m)"), std::string::npos)
+      << scan.error().message;
+  EXPECT_NE(scan.error().message.find("millimetres"), std::string::npos);
+}
+
 TEST(Scanner, EmptyAndAllInvalidFramesAreErrors) {
   Frame f;
   f.width = 4;
