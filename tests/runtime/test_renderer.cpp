@@ -447,23 +447,35 @@ TEST_F(RendererTest, StereoIsTwiceAsWideWithParallax) {
   EXPECT_NEAR(left.cv, 119.5, 2.0);
 }
 
-TEST_F(RendererTest, CameraImageLinesUpWithThePixels) {
-  // A 64x48 organized frame: each pixel's colour encodes its column and row.
+// An organized frame as camera `k` sees it: pixel (u, v) holds the point at depth
+// depth(u, v) on its ray, coloured by paint(u, v, point).
+template <typename Depth, typename Paint>
+Frame pinhole_frame(const CameraIntrinsics& k, Depth depth, Paint paint) {
   Frame f;
-  f.width = 64;
-  f.height = 48;
-  for (int v = 0; v < 48; ++v)
-    for (int u = 0; u < 64; ++u) {
+  f.width = k.width;
+  f.height = k.height;
+  for (int v = 0; v < k.height; ++v)
+    for (int u = 0; u < k.width; ++u) {
       PointXYZRGB p;
-      p.z = 1.0f + 0.01f * u;
-      p.x = (u - 31.5f) / 52.5f * p.z;
-      p.y = (v - 23.5f) / 52.5f * p.z;
-      p.r = static_cast<std::uint8_t>(u * 4);
-      p.g = static_cast<std::uint8_t>(v * 5);
-      p.b = 77;
+      p.z = depth(u, v);
+      p.x = static_cast<float>((u - k.cx) / k.fx * p.z);
+      p.y = static_cast<float>((v - k.cy) / k.fy * p.z);
+      paint(u, v, p);
       f.points.push_back(p);
     }
+  return f;
+}
+
+TEST_F(RendererTest, CameraImageLinesUpWithThePixels) {
+  // A 64x48 organized frame: each pixel's colour encodes its column and row.
   const CameraIntrinsics k{64, 48, 52.5, 52.5, 31.5, 23.5};
+  const Frame f = pinhole_frame(
+      k, [](int u, int) { return 1.0f + 0.01f * u; },
+      [](int u, int v, PointXYZRGB& p) {
+        p.r = static_cast<std::uint8_t>(u * 4);
+        p.g = static_cast<std::uint8_t>(v * 5);
+        p.b = 77;
+      });
   RenderScene s;
   s.frame = &f;
   s.background = Background::camera_image;
@@ -498,19 +510,13 @@ TEST_F(RendererTest, RealSurfacesInFrontOfAnOverlayHideItOnlyWhenAsked) {
   // surface 1.5 cm in front of the overlay in the middle, far floor (2 m) on the right;
   // the image is green, NaN in row 0. A red plate fills the view at 1 m.
   const CameraIntrinsics k{64, 48, 52.5, 52.5, 31.5, 23.5};
-  Frame f;
-  f.width = 64;
-  f.height = 48;
-  for (int v = 0; v < 48; ++v)
-    for (int u = 0; u < 64; ++u) {
-      PointXYZRGB p;
-      p.z = u < 21 ? 0.5f : u < 42 ? 0.985f : 2.0f;
-      if (v == 0) p.z = std::numeric_limits<float>::quiet_NaN();
-      p.x = (u - 31.5f) / 52.5f * p.z;
-      p.y = (v - 23.5f) / 52.5f * p.z;
-      p.g = 200;
-      f.points.push_back(p);
-    }
+  const Frame f = pinhole_frame(
+      k,
+      [](int u, int v) {
+        return v == 0 ? std::numeric_limits<float>::quiet_NaN()
+                      : u < 21 ? 0.5f : u < 42 ? 0.985f : 2.0f;
+      },
+      [](int, int, PointXYZRGB& p) { p.g = 200; });
   auto plate = renderer_->add_mesh(primitive_mesh(ShapeKind::box, {4, 4, 0.01}), "wide plate");
   ASSERT_TRUE(plate.ok());
   RenderScene s;
