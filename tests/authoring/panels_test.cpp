@@ -50,6 +50,7 @@ class HeadlessPanels : public ::testing::Test {
     ImGui::Render();
     std::vector<Command> out = queue.commands;
     for (const Command& c : queue.commands) EXPECT_TRUE(doc.apply(c)) << command_label(c);
+    actions = queue.actions;
     queue = CommandQueue{};
     return out;
   }
@@ -81,20 +82,14 @@ class HeadlessPanels : public ::testing::Test {
   // Presses and releases the left button at `at`; returns the app actions requested.
   std::vector<AppAction> click(ImVec2 at) {
     frame(at, true);
-    ImGuiIO& io = ImGui::GetIO();
-    io.MousePos = at;
-    io.MouseDown[0] = false;
-    ImGui::NewFrame();
-    draw_editor(doc, ui, queue);
-    ImGui::Render();
-    std::vector<AppAction> out = queue.actions;
-    queue = CommandQueue{};
-    return out;
+    frame(at, false);
+    return actions;
   }
 
   EditorDocument doc;
   UiState ui;
   CommandQueue queue;
+  std::vector<AppAction> actions;  // the last frame's file actions (not carried out here)
 };
 
 AppAction action(AppAction::Kind kind, std::string path = {}) {
