@@ -20,6 +20,10 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// sqrt(a^2 + b^2). std::hypot guards against overflow, which lengths in metres never
+// need, at several times the cost (it was a sixth of the shape stage's time).
+inline double len2(double a, double b) { return std::sqrt(a * a + b * b); }
+
 // A point in plane coordinates: a, b along the plane, h height above it.
 struct Local {
   double a = 0, b = 0, h = 0;
@@ -86,13 +90,13 @@ double distance(const Candidate& c, const Local& p) {
       const double slope = (c.r1 - c.r0) / span;
       const double cos_a = 1.0 / std::sqrt(1.0 + slope * slope);
       const double over = p.h > c.h1 ? p.h - c.h1 : (p.h < c.h0 ? c.h0 - p.h : 0.0);
-      const double side = std::hypot((rho - r_at) * cos_a, over);
-      const double cap = std::hypot(std::max(0.0, rho - c.r1), p.h - c.h1);
+      const double side = len2((rho - r_at) * cos_a, over);
+      const double cap = len2(std::max(0.0, rho - c.r1), p.h - c.h1);
       return std::min(side, cap);
     }
     case Model::torus: {
       const double rho = std::sqrt(da * da + db * db);
-      return std::abs(std::hypot(rho - c.major, p.h - c.hc) - c.minor);
+      return std::abs(len2(rho - c.major, p.h - c.hc) - c.minor);
     }
     case Model::box: {
       const double cs = std::cos(c.theta), sn = std::sin(c.theta);
@@ -106,10 +110,10 @@ double distance(const Candidate& c, const Local& p) {
     case Model::lying_cylinder: {
       const double cs = std::cos(c.theta), sn = std::sin(c.theta);
       const double s = cs * da + sn * db, w = -sn * da + cs * db;
-      const double rho = std::hypot(w, p.h - c.hc);
+      const double rho = len2(w, p.h - c.hc);
       const double over = std::max(std::abs(s) - c.ex, 0.0);
-      const double side = std::hypot(rho - c.r0, over);
-      const double cap = std::hypot(std::max(0.0, rho - c.r0), std::abs(s) - c.ex);
+      const double side = len2(rho - c.r0, over);
+      const double cap = len2(std::max(0.0, rho - c.r0), std::abs(s) - c.ex);
       return std::min(side, cap);
     }
   }
@@ -263,7 +267,7 @@ Circle circle_through(const std::array<double, 2>& p1, const std::array<double, 
   if (std::abs(det) < 1e-12) return {};
   const double a2 = ax * ax + ay * ay, b2 = bx * bx + by * by;
   const double ux = (by * a2 - ay * b2) / det, uy = (ax * b2 - bx * a2) / det;
-  return {p1[0] + ux, p1[1] + uy, std::hypot(ux, uy), true};
+  return {p1[0] + ux, p1[1] + uy, len2(ux, uy), true};
 }
 
 // RANSAC circle (seeded) followed by a geometric refinement on its inliers; handles,
@@ -279,7 +283,7 @@ Circle robust_circle(const std::vector<std::array<double, 2>>& q, const std::vec
     if (!c.ok || c.r < params.min_radius_m || c.r > params.max_radius_m) continue;
     double score = 0;
     for (size_t i = 0; i < q.size(); i += 3) {
-      const double e = (std::hypot(q[i][0] - c.x, q[i][1] - c.y) - c.r) / tol[i];
+      const double e = (len2(q[i][0] - c.x, q[i][1] - c.y) - c.r) / tol[i];
       if (std::abs(e) < 1) score += 1 - e * e;
     }
     if (score > best_score) {
@@ -291,7 +295,7 @@ Circle robust_circle(const std::vector<std::array<double, 2>>& q, const std::vec
   if (k.ok && k.r > params.min_radius_m && k.r < params.max_radius_m) {
     double score = 0;
     for (size_t i = 0; i < q.size(); i += 2) {
-      const double e = (std::hypot(q[i][0] - k.x, q[i][1] - k.y) - k.r) / tol[i];
+      const double e = (len2(q[i][0] - k.x, q[i][1] - k.y) - k.r) / tol[i];
       if (std::abs(e) < 1) score += 1 - e * e;
     }
     if (score > best_score) best = k;
@@ -300,13 +304,13 @@ Circle robust_circle(const std::vector<std::array<double, 2>>& q, const std::vec
   std::vector<std::array<double, 2>> in;
   std::vector<double> in_tol;
   for (size_t i = 0; i < q.size(); ++i)
-    if (std::abs(std::hypot(q[i][0] - best.x, q[i][1] - best.y) - best.r) < 2.5 * tol[i]) {
+    if (std::abs(len2(q[i][0] - best.x, q[i][1] - best.y) - best.r) < 2.5 * tol[i]) {
       in.push_back(q[i]);
       in_tol.push_back(tol[i]);
     }
   std::array<double, 3> x{best.x, best.y, best.r};
   refine<3>(x, static_cast<int>(in.size()), in_tol, [&](const std::array<double, 3>& p, int i) {
-    return std::hypot(in[i][0] - p[0], in[i][1] - p[1]) - p[2];
+    return len2(in[i][0] - p[0], in[i][1] - p[1]) - p[2];
   });
   return {x[0], x[1], std::abs(x[2]), true};
 }
@@ -351,7 +355,7 @@ Candidate fit_cylinder(const Samples& s, const std::vector<int>& subset, double 
   // Top: highest side inliers or the cap (points inside the circle facing up).
   std::vector<double> side_h, cap_h, all_h;
   for (int i : subset) {
-    const double rho = std::hypot(s.p[i].a - c.ca, s.p[i].b - c.cb);
+    const double rho = len2(s.p[i].a - c.ca, s.p[i].b - c.cb);
     all_h.push_back(s.p[i].h);
     if (std::abs(rho - c.r0) < s.tol[i]) side_h.push_back(s.p[i].h);
     if (rho < c.r0 - s.tol[i] && (!s.has_normals || s.up[i] > 0.8)) cap_h.push_back(s.p[i].h);
@@ -392,7 +396,7 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
   double sh = 0, shh = 0, sr = 0, srh = 0;
   for (int i : idx) {
     const double t = (s.p[i].h - span_ref.h0) / span;
-    const double rho = std::hypot(s.p[i].a - cyl.ca, s.p[i].b - cyl.cb);
+    const double rho = len2(s.p[i].a - cyl.ca, s.p[i].b - cyl.cb);
     sh += t;
     shh += t * t;
     sr += rho;
@@ -407,7 +411,7 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
     const Local& q = s.p[idx[j]];
     const double t = (q.h - span_ref.h0) / span;
     const double slope = (p[3] - p[2]) / span;
-    return (std::hypot(q.a - p[0], q.b - p[1]) - (p[2] + (p[3] - p[2]) * t)) /
+    return (len2(q.a - p[0], q.b - p[1]) - (p[2] + (p[3] - p[2]) * t)) /
            std::sqrt(1 + slope * slope);
   });
   c.ca = x[0];
@@ -467,13 +471,13 @@ Candidate fit_torus(const Samples& s, const Candidate& cyl, const ShapeRecognize
   const int n = static_cast<int>(s.p.size());
   if (n < 20 || !cyl.valid) return c;
   std::vector<double> rho;
-  for (const Local& p : s.p) rho.push_back(std::hypot(p.a - cyl.ca, p.b - cyl.cb));
+  for (const Local& p : s.p) rho.push_back(len2(p.a - cyl.ca, p.b - cyl.cb));
   const double minor0 = std::max(0.005, s.top / 2);
   std::array<double, 4> x{cyl.ca, cyl.cb, std::max(quantile(rho, 0.5), minor0 * 1.5), minor0};
   refine<4>(x, n, s.tol, [&](const std::array<double, 4>& p, int i) {
     const Local& q = s.p[i];
-    const double r = std::hypot(q.a - p[0], q.b - p[1]);
-    return std::hypot(r - p[2], q.h - p[3]) - std::abs(p[3]);
+    const double r = len2(q.a - p[0], q.b - p[1]);
+    return len2(r - p[2], q.h - p[3]) - std::abs(p[3]);
   });
   c.ca = x[0];
   c.cb = x[1];
@@ -550,7 +554,7 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
       s4 += std::sin(4 * phi);
       sides.push_back(static_cast<int>(i));
     }
-    if (sides.size() >= 30 && std::hypot(c4, s4) > 0.3 * sides.size())
+    if (sides.size() >= 30 && len2(c4, s4) > 0.3 * sides.size())
       best_theta = std::atan2(s4, c4) / 4;
     else
       sides.clear();
@@ -607,7 +611,7 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
     std::vector<double> face[4];  // -x, +x, -y, +y
     for (int i : sides) {
       const double nx = cs * s.na[i] + sn * s.nb[i], ny = -sn * s.na[i] + cs * s.nb[i];
-      const double nh = std::hypot(nx, ny);
+      const double nh = len2(nx, ny);
       if (nh < 1e-6) continue;
       // Anywhere in its half of the footprint: stray points (a neighbour's edge) may
       // sit beyond the face and set the extreme quantile.
@@ -655,7 +659,7 @@ Candidate fit_lying_cylinder(const Samples& s, const Candidate& box,
     w[i] = -sn * (s.p[i].a - box.ca) + cs * (s.p[i].b - box.cb);
   std::array<double, 2> x{0.0, std::max(0.005, s.top / 2)};
   refine<2>(x, static_cast<int>(s.p.size()), tol, [&](const std::array<double, 2>& p, int i) {
-    return std::hypot(w[i] - p[0], s.p[i].h - std::abs(p[1])) - std::abs(p[1]);
+    return len2(w[i] - p[0], s.p[i].h - std::abs(p[1])) - std::abs(p[1]);
   });
   c.theta = box.theta;
   c.ca = box.ca - sn * x[0];
@@ -857,7 +861,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
       s4 += std::sin(4 * phi);
       ++n;
     }
-    if (n >= 30) flatness = std::hypot(c4, s4) / n;
+    if (n >= 30) flatness = len2(c4, s4) / n;
   }
   int best = -1;
   double best_score = -1;

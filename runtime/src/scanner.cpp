@@ -262,13 +262,20 @@ std::vector<Vec3> largest_plane_region(const Frame& f, const std::vector<int>& s
     }
     ++next;
   }
-  // Every other grid point is plenty for the hull.
+  // Only each grid row's outermost region pixels can be hull vertices: an image row
+  // seen on a plane is a line, and its inner pixels lie between the outer two.
   std::vector<Vec3> out;
-  for (size_t g = 0; g < label.size(); ++g)
-    if (label[g] == best_label && ((g % gw) & 1) == 0 && ((g / gw) & 1) == 0) {
-      const int x = static_cast<int>(g % gw) * stride, y = static_cast<int>(g / gw) * stride;
-      out.push_back(to_vec(f.points[static_cast<size_t>(y) * f.width + x]));
-    }
+  for (int y = 0; y < gh; ++y) {
+    int first = -1, last = -1;
+    for (int x = 0; x < gw; ++x)
+      if (label[static_cast<size_t>(y) * gw + x] == best_label) {
+        if (first < 0) first = x;
+        last = x;
+      }
+    if (first < 0) continue;
+    for (int x : {first, last})
+      out.push_back(to_vec(f.points[static_cast<size_t>(y) * stride * f.width + x * stride]));
+  }
   return out;
 }
 
@@ -338,26 +345,36 @@ bool continues_above(const Frame& f, const std::vector<int>& grid_pixels, int st
 // block, keeping pixels in the height band and near their grid pixel in 3D.
 std::vector<int> expand_cluster(const Frame& f, const std::vector<int>& grid_pixels, int step,
                                 const PlaneFit& plane, const ScanParams& params) {
+  // Pixels come out in raster order: grid pixels sorted, then each grid row's blocks
+  // emitted one image row at a time (blocks do not overlap), so nothing larger than
+  // the grid list is sorted.
+  std::vector<int> grid = grid_pixels;
+  std::sort(grid.begin(), grid.end());
   std::vector<int> out;
-  out.reserve(grid_pixels.size() * step * step);
+  out.reserve(grid.size() * step * step);
   const double tol2 = params.cluster_tolerance_m * params.cluster_tolerance_m;
-  for (int i : grid_pixels) {
-    const int x = i % f.width, y = i / f.width;
-    const PointXYZRGB& c = f.points[i];
+  for (size_t row = 0; row < grid.size();) {
+    const int y = grid[row] / f.width;
+    size_t end = row;
+    while (end < grid.size() && grid[end] / f.width == y) ++end;
     for (int dy = 0; dy < step && y + dy < f.height; ++dy)
-      for (int dx = 0; dx < step && x + dx < f.width; ++dx) {
-        const int j = (y + dy) * f.width + x + dx;
-        const PointXYZRGB& q = f.points[j];
-        if (!valid(q)) continue;
-        const double h = dot(plane.n, to_vec(q)) + plane.d;
-        if (h < std::max(params.min_height_m, plane_band(params, q.z)) || h > params.max_height_m)
-          continue;
-        const double ddx = c.x - q.x, ddy = c.y - q.y, ddz = c.z - q.z;
-        if (ddx * ddx + ddy * ddy + ddz * ddz > tol2) continue;
-        out.push_back(j);
+      for (size_t k = row; k < end; ++k) {
+        const int x = grid[k] % f.width;
+        const PointXYZRGB& c = f.points[grid[k]];
+        for (int dx = 0; dx < step && x + dx < f.width; ++dx) {
+          const int j = (y + dy) * f.width + x + dx;
+          const PointXYZRGB& q = f.points[j];
+          if (!valid(q)) continue;
+          const double h = dot(plane.n, to_vec(q)) + plane.d;
+          if (h < std::max(params.min_height_m, plane_band(params, q.z)) || h > params.max_height_m)
+            continue;
+          const double ddx = c.x - q.x, ddy = c.y - q.y, ddz = c.z - q.z;
+          if (ddx * ddx + ddy * ddy + ddz * ddz > tol2) continue;
+          out.push_back(j);
+        }
       }
+    row = end;
   }
-  std::sort(out.begin(), out.end());
   return out;
 }
 
@@ -470,9 +487,9 @@ void merge_parts(const Frame& f, const ScanParams& params, ScanResult& result,
     if (owner[c] < 0) continue;
     ScanCluster& big = result.clusters[owner[c]];
     for (int i : result.clusters[c].pixels) label[i] = owner[c];
-    big.pixels.insert(big.pixels.end(), result.clusters[c].pixels.begin(),
-                      result.clusters[c].pixels.end());
-    std::sort(big.pixels.begin(), big.pixels.end());
+    const auto middle = big.pixels.insert(big.pixels.end(), result.clusters[c].pixels.begin(),
+                                          result.clusters[c].pixels.end());
+    std::inplace_merge(big.pixels.begin(), middle, big.pixels.end());  // both sorted
     grown[owner[c]] = 1;
   }
   parallel_for(n, params.threads, [&](size_t c) {
