@@ -38,8 +38,22 @@ Result<PcdHeader> parse_pcd_header(std::string_view text, std::string_view origi
 // x y z fields and optional rgb or rgba (no colour: grey). Organized clouds keep
 // their width x height; unorganized ones come back with height 1. A missing file,
 // missing xyz fields, a corrupt or truncated body, or a cloud whose points are all
-// NaN is an Error naming the file, never a crash.
+// NaN is an Error naming the file, never a crash. Memory and time follow the file's
+// real size, whatever its header claims: the file is read whole, then decode_pcd.
 Result<Frame> read_pcd(const std::filesystem::path& path);
+
+// read_pcd's decoder on a whole file held in memory; pure (no file IO), so it is
+// unit-tested and fuzzed from bytes. Before anything proportional to the header's
+// promise is allocated the promise is held against the bytes there are: an ascii
+// body needs two bytes per value, a binary one POINTS x point size, a compressed
+// block its stated size and at most 88 times that unpacked (LZF's greatest ratio).
+// Errors in an ascii body carry origin:line:col.
+Result<Frame> decode_pcd(std::string_view bytes, std::string_view origin);
+
+// PCL's own reader and writer (pcd_io_pcl_reference.cpp), the reference the decoder
+// is tested against; read_pcd does not use them.
+Result<Frame> read_pcd_pcl(const std::filesystem::path& path);
+Status write_pcd_pcl(const std::filesystem::path& path, const Frame& frame, PcdHeader::Data data);
 
 // Writes an organized (or unorganized, height 1) binary PCD with fields x y z rgba,
 // the layout of the real scans, atomically (the old file survives a failure).
