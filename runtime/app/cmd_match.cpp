@@ -10,6 +10,7 @@
 #include "annex/runtime/pcd_io.h"
 #include "annex/runtime/scanner.h"
 #include "commands.h"
+#include "depth_options.h"
 
 namespace annex::cli {
 namespace {
@@ -27,16 +28,17 @@ std::optional<double> parse_non_negative(std::string_view option, const std::str
 
 // A .scene file as it is, or a depth frame scanned first (exit code with the error).
 Result<PhysicalScene> load_scene(const std::string& path, const std::optional<std::string>& config,
+                                 const ParsedArgs& args, const FrameSourceParams& depth_params,
                                  std::vector<Diagnostic>& warnings, int& failure_code) {
   failure_code = kExitBadInput;
-  if (!path.ends_with(".pcd")) return read_scene_file(path, &warnings);
+  if (!path.ends_with(".pcd") && !is_png_path(path)) return read_scene_file(path, &warnings);
   ScanParams params;
   if (config) {
     Result<ScanParams> cfg = read_scan_config_file(*config);
     if (!cfg) return cfg.error();
     params = *cfg;
   }
-  const Result<Frame> frame = read_pcd(path);
+  const Result<Frame> frame = read_frame_file(path, args, depth_params);
   if (!frame) return frame.error();
   Result<ScanResult> scan = scan_frame(*frame, params);
   if (!scan) {
@@ -49,8 +51,11 @@ Result<PhysicalScene> load_scene(const std::string& path, const std::optional<st
 }
 
 int run_match(const std::vector<std::string>& args) {
-  const auto parsed = parse_args("match", args, {{"explain"}, {"min-vote", "max-vote", "config"}});
+  const auto parsed = parse_args("match", args, {{"explain"}, {"min-vote", "max-vote", "config",
+                                                               "color", "intrinsics", "depth-scale"}});
   if (!parsed) return kExitBadInput;
+  FrameSourceParams depth_params;
+  if (!read_depth_options("match", *parsed, depth_params)) return kExitBadInput;
   if (parsed->positional.size() != 2) {
     std::cerr << "annex-runtime match: error: expected SPEC.haptic and SCENE.scene or CLOUD.pcd"
                  " (see --help)\n";
@@ -72,7 +77,8 @@ int run_match(const std::vector<std::string>& args) {
   const Result<HapticSpec> spec = read_haptic_file(parsed->positional[0], &warnings);
   int scene_failure = kExitBadInput;
   const Result<PhysicalScene> scene =
-      load_scene(parsed->positional[1], parsed->get("config"), warnings, scene_failure);
+      load_scene(parsed->positional[1], parsed->get("config"), *parsed, depth_params, warnings,
+                 scene_failure);
   for (const Diagnostic& w : warnings) std::cerr << w.format() << "\n";
   if (!spec) std::cerr << spec.error().format() << "\n";
   if (!scene) std::cerr << scene.error().format() << "\n";
@@ -89,10 +95,12 @@ int run_match(const std::vector<std::string>& args) {
 
 const Command kMatchCommand{
     "match", "vote and match a spec against a scene (the match simulator)",
-    "usage: annex-runtime match SPEC.haptic (SCENE.scene | CLOUD.pcd) [--explain]\n"
-    "                           [--min-vote X] [--max-vote C] [--config SCAN.conf]\n"
+    "usage: annex-runtime match SPEC.haptic (SCENE.scene | CLOUD.pcd | DEPTH.png)\n"
+    "                           [--explain] [--min-vote X] [--max-vote C] [--config SCAN.conf]\n"
+    "                           [--color RGB.png] [--intrinsics fx,fy,cx,cy] [--depth-scale S]\n"
     "\n"
-    "With a depth frame (.pcd) the scanner runs first (see 'scan --help') and its\n"
+    "With a depth frame (.pcd, or a 16-bit depth .png with the options of 'scan') the\n"
+    "scanner runs first (see 'scan --help') and its\n"
     "objects p1, p2, ... are the physical objects.\n"
     "Every annexable virtual object votes for every physical object (the paper's\n"
     "voting equation) and the Hungarian method picks the assignment with the highest\n"

@@ -18,6 +18,7 @@
 #include "annex/runtime/renderer.h"
 #include "annex/runtime/target_volume_segmenter.h"
 #include "commands.h"
+#include "depth_options.h"
 #include "hmd_option.h"
 
 namespace annex::cli {
@@ -72,7 +73,7 @@ int run_run(const std::vector<std::string>& args) {
       kName, args,
       {{"window", "stereo", "no-overlays", "points", "realtime"},
        {"source", "out", "frames", "scan-every", "release-after", "threads", "config", "hmd",
-        "occlusion"}});
+        "occlusion", "depth-scale", "intrinsics"}});
   if (!parsed) return kExitBadInput;
   if (parsed->positional.size() != 1)
     return fail("expected one SPEC.haptic (see --help)", kExitBadInput);
@@ -133,6 +134,7 @@ int run_run(const std::vector<std::string>& args) {
 
   FrameSourceParams source_params;
   if (parsed->has("realtime")) source_params.pacing = Pacing::recorded_rate;
+  if (!read_depth_options(kName, *parsed, source_params)) return kExitBadInput;
   auto grabber = open_frame_source(*source, source_params);
   if (!grabber) {
     std::cerr << grabber.error().format() << "\n";
@@ -301,9 +303,11 @@ extern const Command kRunCommand = {
     "                         [--stereo [--hmd HMD.conf]] [--frames N] [--scan-every K]\n"
     "                         [--release-after N] [--threads N] [--config SCAN.conf]\n"
     "                         [--no-overlays] [--points] [--occlusion M] [--realtime]\n"
+    "                         [--depth-scale S] [--intrinsics fx,fy,cx,cy]\n"
     "\n"
-    "SRC is a .pcd file, a directory of .pcd frames (name order), an .oni recording,\n"
-    "'openni2' (the first device) or 'openni2:URI'. Scans frames until props are found,\n"
+    "SRC is a .pcd file, a directory of .pcd frames (name order), a TUM RGB-D sequence\n"
+    "(a directory with depth.txt and rgb.txt), a directory of 16-bit depth PNGs or one,\n"
+    "an .oni recording, 'openni2' (the first device) or 'openni2:URI'. Scans frames until props are found,\n"
     "votes and matches (as 'match' does), then tracks each matched prop (ICP in a cube\n"
     "around its last pose; re-initialised after 5 failed frames) and keeps scanning\n"
     "every K frames: virtual objects without a prop vote again, new props are picked\n"
@@ -331,6 +335,8 @@ extern const Command kRunCommand = {
     "                    front of a virtual model hide it (a hand; its prop, within M,\n"
     "                    does not); without it the models are drawn over everything\n"
     "  --realtime        deliver recorded frames at their recorded rate\n"
+    "  --depth-scale S   depth PNG value per metre (default 1000; TUM RGB-D 5000)\n"
+    "  --intrinsics LIST depth PNG camera fx,fy,cx,cy (default the Kinect's)\n"
     "\n"
     "Exit 0 on success, 1 when the source fails (a lost sensor, no frame) or no OpenGL\n"
     "context exists for --window, 2 on bad arguments or input.\n",

@@ -11,6 +11,7 @@
 #include "annex/runtime/scan_overlay.h"
 #include "annex/runtime/scanner.h"
 #include "commands.h"
+#include "depth_options.h"
 
 namespace annex::cli {
 namespace {
@@ -43,10 +44,11 @@ double median(std::vector<double> v) {
 
 int run_scan(const std::vector<std::string>& args) {
   const auto parsed =
-      parse_args("scan", args, {{"explain"}, {"scene", "png", "config", "repeat"}});
+      parse_args("scan", args, {{"explain"}, {"scene", "png", "config", "repeat", "color",
+                                              "intrinsics", "depth-scale"}});
   if (!parsed) return kExitBadInput;
   if (parsed->positional.size() != 1) {
-    std::cerr << "annex-runtime scan: error: expected one CLOUD.pcd (see --help)\n";
+    std::cerr << "annex-runtime scan: error: expected one CLOUD.pcd or DEPTH.png (see --help)\n";
     return kExitBadInput;
   }
   long repeat = 0;
@@ -64,7 +66,9 @@ int run_scan(const std::vector<std::string>& args) {
     }
     params = *cfg;
   }
-  const Result<Frame> frame = read_pcd(parsed->positional[0]);
+  FrameSourceParams depth_params;
+  if (!read_depth_options("scan", *parsed, depth_params)) return kExitBadInput;
+  const Result<Frame> frame = read_frame_file(parsed->positional[0], *parsed, depth_params);
   if (!frame) {
     std::cerr << frame.error().format() << "\n";
     return kExitBadInput;
@@ -142,7 +146,9 @@ int run_scan(const std::vector<std::string>& args) {
 
 extern const Command kScanCommand = {
     "scan", "find the table plane and the objects on it in one depth frame",
-    "usage: annex-runtime scan CLOUD.pcd [--scene OUT.scene] [--png OUT.png]\n"
+    "usage: annex-runtime scan (CLOUD.pcd | DEPTH.png [--color RGB.png]\n"
+    "                          [--intrinsics fx,fy,cx,cy] [--depth-scale S])\n"
+    "                          [--scene OUT.scene] [--png OUT.png]\n"
     "                          [--config FILE] [--explain] [--repeat N]\n"
     "\n"
     "Finds the dominant near-horizontal plane, the objects resting on it and each\n"
@@ -153,6 +159,11 @@ extern const Command kScanCommand = {
     "with ids p1, p2, ... left to right in the image; an object with no fitting shape\n"
     "prints 'object <id> unknown points=N fit=0'.\n"
     "\n"
+    "A depth frame is a PCD cloud or a 16-bit depth PNG, back-projected through the\n"
+    "intrinsics (default the Kinect's 525,525,319.5,239.5) with value / S = metres:\n"
+    "  --color RGB.png    the colour image registered to DEPTH.png\n"
+    "  --intrinsics LIST  fx,fy,cx,cy in pixels\n"
+    "  --depth-scale S    stored value per metre (default 1000; TUM RGB-D 5000)\n"
     "  --scene OUT.scene  write the objects as a scene file (docs/scene-format.md)\n"
     "  --png OUT.png      write the camera view with objects coloured and outlined\n"
     "  --config FILE      scan parameters (samples/config/scan.conf, docs/perception.md)\n"

@@ -12,7 +12,9 @@
 #include <thread>
 #include <utility>
 
+#include "annex/runtime/frame_grabber_depth_png.h"
 #include "annex/runtime/pcd_io.h"
+#include "pacer.h"
 
 namespace annex {
 namespace {
@@ -35,28 +37,6 @@ bool has_pcd_extension(const std::filesystem::path& path) {
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext == ".pcd";
 }
-
-// Sleeps until the frame's recorded time relative to the first delivered frame.
-class Pacer {
- public:
-  void wait_for(double timestamp_s) {
-    const auto now = std::chrono::steady_clock::now();
-    if (!started_) {
-      started_ = true;
-      start_ = now;
-      first_timestamp_s_ = timestamp_s;
-      return;
-    }
-    const auto due = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                  std::chrono::duration<double>(timestamp_s - first_timestamp_s_));
-    if (due > now) std::this_thread::sleep_until(due);
-  }
-
- private:
-  bool started_ = false;
-  std::chrono::steady_clock::time_point start_;
-  double first_timestamp_s_ = 0;
-};
 
 class PcdFileGrabber final : public FrameGrabber {
  public:
@@ -221,21 +201,32 @@ Result<std::unique_ptr<FrameGrabber>> open_pcd_directory(const std::filesystem::
 
 Result<std::unique_ptr<FrameGrabber>> open_frame_source(const std::string& spec,
                                                         const FrameSourceParams& params) {
-  if (spec.empty()) return Error{"empty frame source (want a .pcd, a directory, a .oni or openni2)", {}};
+  if (spec.empty()) return Error{"empty frame source (want a .pcd, a depth .png, a directory, a .oni or openni2)", {}};
   if (spec == "openni2") return open_openni2_device();
   if (spec.rfind("openni2:", 0) == 0) return open_openni2_device(spec.substr(8));
   const std::filesystem::path path(spec);
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) return open_pcd_directory(path, params);
+  if (std::filesystem::is_directory(path, ec)) {
+    // A TUM RGB-D sequence, else PCD frames, else depth PNGs.
+    if (std::filesystem::is_regular_file(path / "depth.txt", ec))
+      return open_tum_sequence(path, params);
+    Result<std::unique_ptr<FrameGrabber>> pcd = open_pcd_directory(path, params);
+    if (pcd) return pcd;
+    Result<std::unique_ptr<FrameGrabber>> png = open_depth_png_directory(path, params);
+    if (png) return png;
+    return Error{"no .pcd files, depth PNGs or TUM depth.txt in the directory",
+                 Location{path.string()}};
+  }
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext == ".oni") return open_oni_file(path, params);
   if (ext == ".pcd") return open_pcd_file(path);
+  if (ext == ".png") return open_depth_png_file(path, params);
   if (!std::filesystem::exists(path, ec))
-    return Error{"no such file or directory (want a .pcd, a directory, a .oni or openni2)",
+    return Error{"no such file or directory (want a .pcd, a depth .png, a directory, a .oni or openni2)",
                  Location{spec}};
-  return Error{"unknown frame source type (want a .pcd, a directory, a .oni or openni2)",
+  return Error{"unknown frame source type (want a .pcd, a depth .png, a directory, a .oni or openni2)",
                Location{spec}};
 }
 

@@ -40,11 +40,20 @@ struct FrameSourceParams {
   Pacing pacing = Pacing::as_fast_as_possible;
   // Frame rate assumed for directories whose file names carry no timestamps.
   double default_rate_hz = 30.0;
+  // Depth PNG sources (frame_grabber_depth_png.h): stored value / depth_scale =
+  // metres (1000 millimetres, TUM RGB-D 5000); the camera's fx, fy, cx, cy (width and
+  // height are the images'), the Kinect's when unset; the largest gap between a
+  // depth image and the colour image paired with it.
+  double depth_scale = 1000.0;
+  std::optional<CameraIntrinsics> intrinsics;
+  double max_color_gap_s = 0.02;
 };
 
 // Opens a source from a command-line spec:
 //   path/to/cloud.pcd    one frame
-//   path/to/dir/         every *.pcd in name order
+//   path/to/dir/         every *.pcd in name order; a TUM RGB-D sequence (depth.txt,
+//                        rgb.txt); else every depth PNG (frame_grabber_depth_png.h)
+//   path/to/depth.png    one 16-bit depth image
 //   path/to/take.oni     an OpenNI2 recording
 //   openni2              the first OpenNI2 device
 //   openni2:URI          the OpenNI2 device with this URI
