@@ -38,8 +38,9 @@ void open_file_dialog(UiState& ui, AppAction::Kind purpose, const EditorDocument
       break;
     case AppAction::Kind::choose_source:
       ask_path(ui, purpose,
-               "Recording for annex-runtime run (a .pcd file, a folder of them, or .oni)",
-               {".pcd", ".oni"}, "");
+               "Recording for annex-runtime run (a .pcd file or folder, a TUM RGB-D or depth "
+               "PNG folder, a depth .png, or .oni)",
+               {".pcd", ".png", ".oni"}, "");
       break;
     case AppAction::Kind::open_scene:
       ask_path(ui, purpose, "Open scene for the match preview", {".scene"},
@@ -106,7 +107,7 @@ void draw_menu_bar(const EditorDocument& doc, UiState& ui, CommandQueue& queue) 
     const std::string source =
         "Source: " + (ui.runtime_source.empty() ? std::string("(none)") : ui.runtime_source);
     ImGui::MenuItem(source.c_str(), nullptr, false, false);
-    if (ImGui::MenuItem("Choose recording (.pcd file or folder, .oni)...", nullptr, false,
+    if (ImGui::MenuItem("Choose recording (.pcd, depth .png, folder, .oni)...", nullptr, false,
                         !ui.runtime_path.empty()))
       open_file_dialog(ui, AppAction::Kind::choose_source, doc);
     if (ImGui::MenuItem("Live sensor (openni2)", nullptr, ui.runtime_source == "openni2",

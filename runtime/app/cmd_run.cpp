@@ -335,7 +335,7 @@ extern const Command kRunCommand = {
     "                    front of a virtual model hide it (a hand; its prop, within M,\n"
     "                    does not); without it the models are drawn over everything\n"
     "  --realtime        deliver recorded frames at their recorded rate\n"
-    "  --depth-scale S   depth PNG value per metre (default 1000; TUM RGB-D 5000)\n"
+    "  --depth-scale S   depth PNG value per metre (default 1000; a TUM sequence 5000)\n"
     "  --intrinsics LIST depth PNG camera fx,fy,cx,cy (default the Kinect's)\n"
     "\n"
     "Exit 0 on success, 1 when the source fails (a lost sensor, no frame) or no OpenGL\n"

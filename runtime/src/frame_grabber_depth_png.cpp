@@ -20,6 +20,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Stored depth units per metre: millimetres unless told, and TUM RGB-D's own scale.
+constexpr double kMillimetres = 1000.0;
+constexpr double kTumScale = 5000.0;
+
 // One frame of a sequence: its depth image, the colour paired with it, its time.
 struct DepthItem {
   fs::path depth;
@@ -124,7 +128,7 @@ class DepthPngGrabber final : public FrameGrabber {
 };
 
 Status check_params(const FrameSourceParams& params, const fs::path& origin) {
-  if (!(params.depth_scale > 0) || !std::isfinite(params.depth_scale))
+  if (params.depth_scale && (!(*params.depth_scale > 0) || !std::isfinite(*params.depth_scale)))
     return Error{"depth scale must be a positive number", Location{origin.string()}};
   if (params.intrinsics) {
     Result<CameraIntrinsics> k = intrinsics_for_image(params.intrinsics, 1 << 30, 1 << 30,
@@ -211,7 +215,7 @@ Result<CameraIntrinsics> intrinsics_for_image(const std::optional<CameraIntrinsi
 
 Result<Frame> read_depth_png_frame(const fs::path& depth_path, const std::optional<fs::path>& color_path,
                                    const FrameSourceParams& params) {
-  const DepthPngParams png{.depth_scale = params.depth_scale};
+  const DepthPngParams png{.depth_scale = params.depth_scale.value_or(kMillimetres)};
   Result<DepthImage> depth = read_depth_png(depth_path, png);
   if (!depth) return depth.error();
   Result<CameraIntrinsics> k =
@@ -235,8 +239,10 @@ Result<Frame> read_depth_png_frame(const fs::path& depth_path, const std::option
 }
 
 Result<std::unique_ptr<FrameGrabber>> open_tum_sequence(const fs::path& dir,
-                                                        const FrameSourceParams& params) {
-  if (Status s = check_params(params, dir); !s) return s.error();
+                                                        const FrameSourceParams& given) {
+  if (Status s = check_params(given, dir); !s) return s.error();
+  FrameSourceParams params = given;
+  params.depth_scale = given.depth_scale.value_or(kTumScale);
   const fs::path depth_list = dir / "depth.txt";
   Result<std::vector<TumListEntry>> depth = read_tum_list(depth_list);
   if (!depth) return depth.error();
@@ -284,8 +290,7 @@ Result<std::unique_ptr<FrameGrabber>> open_tum_sequence(const fs::path& dir,
   const std::string description =
       "TUM RGB-D sequence '" + dir.string() + "' (" + std::to_string(items.size()) +
       " depth frames, " + std::to_string(paired) + " with colour, depth scale " +
-      std::to_string(static_cast<int>(params.depth_scale)) + ", " +
-      pacing_text(params, "recorded rate") + ")";
+      pixels(*params.depth_scale) + ", " + pacing_text(params, "recorded rate") + ")";
   return std::unique_ptr<FrameGrabber>(
       std::make_unique<DepthPngGrabber>(description, std::move(items), params));
 }
@@ -341,7 +346,7 @@ Result<std::unique_ptr<FrameGrabber>> open_depth_png_directory(const fs::path& d
   const std::string description =
       "depth PNG directory '" + dir.string() + "' (" + std::to_string(items.size()) +
       " frames, " + std::to_string(paired) + " with colour, depth scale " +
-      std::to_string(static_cast<int>(params.depth_scale)) + ", " +
+      pixels(params.depth_scale.value_or(kMillimetres)) + ", " +
       pacing_text(params, named_times ? "recorded rate from file names"
                                       : (std::to_string(rate) + " Hz").c_str()) +
       ")";

@@ -138,13 +138,13 @@ TEST(TumSequence, DeliversEveryDepthFrameWithTheNearestColour) {
   TempDir dir("tum");
   const SyntheticScene scene = test_scene();
   const std::vector<Frame> truth = write_tum_folder(dir.path(), scene, 3);
-  FrameSourceParams params;
-  params.depth_scale = 5000;
+  FrameSourceParams params;  // TUM's 5000 units a metre by default
   auto g = open_frame_source(dir.path().string(), params);
   ASSERT_TRUE(g) << g.error().format();
   EXPECT_EQ((*g)->frame_count(), 3);
   EXPECT_NE((*g)->describe().find("TUM RGB-D sequence"), std::string::npos) << (*g)->describe();
-  EXPECT_NE((*g)->describe().find("3 with colour"), std::string::npos) << (*g)->describe();
+  EXPECT_NE((*g)->describe().find("3 with colour, depth scale 5000"), std::string::npos)
+      << (*g)->describe();
   for (int k = 0; k < 3; ++k) {
     Result<std::optional<Frame>> f = (*g)->next();
     ASSERT_TRUE(f) << f.error().format();
@@ -301,7 +301,7 @@ TEST(DepthPngCli, RunAnnexesATumSequence) {
   const std::string base = "run " + (dir.path() / "spec.haptic").string() + " --source " +
                            (dir.path() / "tum").string() + " --out " +
                            (dir.path() / "out").string() + " --no-overlays";
-  const test::CliRun run = test::run_cli(base + " --depth-scale 5000");
+  const test::CliRun run = test::run_cli(base);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("TUM RGB-D sequence"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("3 frames in"), std::string::npos) << run.output;

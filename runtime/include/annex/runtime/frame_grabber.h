@@ -41,10 +41,11 @@ struct FrameSourceParams {
   // Frame rate assumed for directories whose file names carry no timestamps.
   double default_rate_hz = 30.0;
   // Depth PNG sources (frame_grabber_depth_png.h): stored value / depth_scale =
-  // metres (1000 millimetres, TUM RGB-D 5000); the camera's fx, fy, cx, cy (width and
-  // height are the images'), the Kinect's when unset; the largest gap between a
-  // depth image and the colour image paired with it.
-  double depth_scale = 1000.0;
+  // metres, when unset 1000 (millimetres) or, for a TUM RGB-D sequence, the 5000 its
+  // format defines; the camera's fx, fy, cx, cy (width and height are the images'),
+  // the Kinect's when unset; the largest gap between a depth image and the colour
+  // image paired with it.
+  std::optional<double> depth_scale;
   std::optional<CameraIntrinsics> intrinsics;
   double max_color_gap_s = 0.02;
 };
