@@ -15,6 +15,7 @@
 #include "annex/runtime/annex_session.h"
 #include "annex/runtime/frame_grabber.h"
 #include "annex/runtime/match_report.h"
+#include "annex/runtime/osc_stream.h"
 #include "annex/runtime/renderer.h"
 #include "annex/runtime/target_volume_segmenter.h"
 #include "commands.h"
@@ -72,7 +73,7 @@ int run_run(const std::vector<std::string>& args) {
       kName, args,
       {{"window", "stereo", "no-overlays", "points", "realtime"},
        {"source", "out", "frames", "scan-every", "release-after", "threads", "config", "hmd",
-        "occlusion"}});
+        "occlusion", "stream", "listen", "exclude"}});
   if (!parsed) return kExitBadInput;
   if (parsed->positional.size() != 1)
     return fail("expected one SPEC.haptic (see --help)", kExitBadInput);
@@ -169,6 +170,38 @@ int run_run(const std::vector<std::string>& args) {
   }
 
   AnnexSession session(*spec, params);
+  // The OSC stream and the game's answers (docs/streaming.md).
+  std::vector<std::string> stream_urls;
+  for (const auto& [name, value] : parsed->options)
+    if (name == "stream") stream_urls.push_back(value);
+  std::optional<OscStream> stream;
+  if (!stream_urls.empty()) {
+    auto opened = OscStream::open(stream_urls);
+    if (!opened) return fail(opened.error().format(), kExitBadInput);
+    stream.emplace(std::move(*opened));
+  }
+  std::optional<OscListener> listener;
+  if (auto url = parsed->get("listen")) {
+    auto opened = OscListener::open(*url);
+    if (!opened) return fail(opened.error().format(), kExitBadInput);
+    listener.emplace(std::move(*opened));
+    std::cerr << "annex-runtime run: listening for /annex/exclude and /annex/rescan on UDP port "
+              << listener->port() << "\n";
+  }
+  if (auto ids = parsed->get("exclude")) {
+    size_t start = 0;
+    for (;;) {
+      const size_t comma = ids->find(',', start);
+      const std::string id = ids->substr(start, comma == std::string::npos ? comma : comma - start);
+      if (id.empty() || id.find_first_of(" \t") != std::string::npos)
+        return fail("--exclude expects physical ids separated by commas (p1,p3), got '" + *ids +
+                        "'",
+                    kExitBadInput);
+      session.exclude(id);
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+  }
   std::vector<std::vector<Drawable>> drawables(spec->objects.size());
   std::vector<bool> uploaded(spec->objects.size(), false);
   std::optional<CameraIntrinsics> camera;
@@ -193,7 +226,25 @@ int run_run(const std::vector<std::string>& args) {
     if (!*next) break;
     const Frame& frame = **next;
     const int i = frames++;
+    if (listener) {
+      std::vector<std::string> ignored;
+      for (const OscCommand& c : listener->poll(&ignored)) {
+        if (c.kind == OscCommand::Kind::exclude) {
+          std::cerr << "annex-runtime run: frame " << i << ": OSC asks to exclude "
+                    << c.physical_id << "\n";
+          session.exclude(c.physical_id);
+        } else {
+          std::cerr << "annex-runtime run: frame " << i << ": OSC asks for a rescan\n";
+          session.rescan();
+        }
+      }
+      for (const std::string& w : ignored) std::cerr << "annex-runtime run: warning: " << w << "\n";
+    }
     const FrameReport r = session.process(frame);
+    if (stream)
+      for (const std::string& problem : stream->send(*spec, r))
+        std::cerr << "annex-runtime run: warning: " << problem << "\n";
+    for (const std::string& id : r.excluded) std::cout << "frame " << i << " exclude " << id << "\n";
     frame_ms.push_back(r.times.total_ms);
     track_ms.push_back(r.times.track_ms);
     if (r.scanned) scan_ms.push_back(r.times.scan_ms);
@@ -286,6 +337,13 @@ int run_run(const std::vector<std::string>& args) {
     if (last_scan_error) std::cerr << " (last scan: " << last_scan_error->message << ")";
     std::cerr << "\n";
   }
+  if (stream)
+    for (const OscTargetStats& t : stream->stats())
+      std::cerr << "annex-runtime run: " << t.url << ": " << t.bundles_sent << " bundles sent"
+                << (t.bundles_failed ? ", " + std::to_string(t.bundles_failed) +
+                                           " not delivered (" + t.first_error + ")"
+                                     : std::string())
+                << "\n";
   for (const AnnexedObject& o : session.objects())
     std::cout << "annexed " << o.virtual_name << " " << o.physical_id
               << " state=" << tracking_state_name(o.track.state) << "\n";
@@ -301,6 +359,8 @@ extern const Command kRunCommand = {
     "                         [--stereo [--hmd HMD.conf]] [--frames N] [--scan-every K]\n"
     "                         [--release-after N] [--threads N] [--config SCAN.conf]\n"
     "                         [--no-overlays] [--points] [--occlusion M] [--realtime]\n"
+    "                         [--stream osc.udp://HOST:PORT]... [--listen osc.udp://:PORT]\n"
+    "                         [--exclude ID[,ID...]]\n"
     "\n"
     "SRC is a .pcd file, a directory of .pcd frames (name order), an .oni recording,\n"
     "'openni2' (the first device) or 'openni2:URI'. Scans frames until props are found,\n"
@@ -310,6 +370,7 @@ extern const Command kRunCommand = {
     "up, and a prop lost for N frames is released. Prints\n"
     "  frame <i> match <virtual-name> <physical-id> <vote>\n"
     "  frame <i> release <virtual-name>\n"
+    "  frame <i> exclude <physical-id>                      (an exclusion takes effect)\n"
     "  annexed <virtual-name> <physical-id> state=<state>      (at the end)\n"
     "\n"
     "  --out DIR         write DIR/poses.txt (one line per frame per annexed object:\n"
@@ -331,6 +392,15 @@ extern const Command kRunCommand = {
     "                    front of a virtual model hide it (a hand; its prop, within M,\n"
     "                    does not); without it the models are drawn over everything\n"
     "  --realtime        deliver recorded frames at their recorded rate\n"
+    "  --stream URL      send every frame as one OSC bundle to URL, osc.udp://HOST:PORT\n"
+    "                    (repeatable; docs/streaming.md): /annex/frame, /annex/object per\n"
+    "                    annexed object, /annex/released, /annex/excluded. A target that\n"
+    "                    cannot be reached is reported once; the run goes on\n"
+    "  --listen URL      receive /annex/exclude <physical-id> and /annex/rescan on\n"
+    "                    osc.udp://:PORT\n"
+    "  --exclude IDS     props never to annex (p1,p3: ids as the first scan gives them);\n"
+    "                    an excluded prop is released if annexed and never voted on\n"
+    "                    again while it stays in view\n"
     "\n"
     "Exit 0 on success, 1 when the source fails (a lost sensor, no frame) or no OpenGL\n"
     "context exists for --window, 2 on bad arguments or input.\n",
