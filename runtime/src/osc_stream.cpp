@@ -101,9 +101,12 @@ Result<OscUrl> parse_osc_url(std::string_view text, bool host_required) {
     return url_error(text, "the host must not contain '/'");
   int n = 0;
   const auto [end, ec] = std::from_chars(port.data(), port.data() + port.size(), n);
-  if (port.empty() || ec != std::errc() || end != port.data() + port.size() || n < 1 || n > 65535)
-    return url_error(text, "the port must be a whole number from 1 to 65535, got '" +
-                               std::string(port) + "'");
+  // Listening on port 0 takes any free port (OscListener::port() tells which).
+  const int lowest = host_required ? 1 : 0;
+  if (port.empty() || ec != std::errc() || end != port.data() + port.size() || n < lowest ||
+      n > 65535)
+    return url_error(text, "the port must be a whole number from " + std::to_string(lowest) +
+                               " to 65535, got '" + std::string(port) + "'");
   url.port = n;
   return url;
 }
@@ -318,7 +321,9 @@ Result<OscListener> OscListener::open(std::string_view text) {
   if (!url->host.empty())
     return url_error(text, "a listening URL names only the port, osc.udp://:PORT (it listens on "
                            "every interface)");
-  lo_server s = lo_server_new_with_proto(port.c_str(), LO_UDP, remember_lo_error);
+  // liblo picks a free port when given none.
+  lo_server s = lo_server_new_with_proto(url->port == 0 ? nullptr : port.c_str(), LO_UDP,
+                                         remember_lo_error);
   if (!s)
     return url_error(text, "cannot listen on UDP port " + port + ": " +
                                (g_lo_error.empty() ? "unknown liblo error" : g_lo_error));

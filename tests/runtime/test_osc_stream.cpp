@@ -191,6 +191,9 @@ TEST(OscUrl, ParsesTargetsAndListenPorts) {
   u = parse_osc_url("osc.udp://:9001", false);
   ASSERT_TRUE(u.ok());
   EXPECT_TRUE(u->host.empty());
+  u = parse_osc_url("osc.udp://:0", false);  // listening: any free port
+  ASSERT_TRUE(u.ok());
+  EXPECT_EQ(u->port, 0);
   struct Bad {
     const char* url;
     bool host_required;
@@ -210,6 +213,9 @@ TEST(OscUrl, ParsesTargetsAndListenPorts) {
     EXPECT_NE(r.error().message.find(b.message), std::string::npos) << r.error().format();
     EXPECT_EQ(r.error().location.origin, b.url);
   }
+  const Result<OscListener> any = OscListener::open("osc.udp://:0");
+  ASSERT_TRUE(any.ok()) << any.error().format();
+  EXPECT_GT(any->port(), 0);
   const Result<OscListener> listen = OscListener::open("osc.udp://127.0.0.1:9000");
   ASSERT_FALSE(listen.ok());
   EXPECT_NE(listen.error().message.find("names only the port"), std::string::npos);

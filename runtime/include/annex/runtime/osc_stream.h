@@ -23,7 +23,7 @@ namespace annex {
 struct OscUrl {
   std::string text;  // as given, for messages
   std::string host;  // empty: every local interface (listening only)
-  int port = 0;      // 1 to 65535
+  int port = 0;      // 1 to 65535 (listening: 0 takes any free port)
 };
 
 // Errors name the URL and what is wrong with it (scheme, host, port).
