@@ -92,7 +92,7 @@ class OscDump {
   // Waits until `count` lines containing `what` were dumped (or gives up).
   std::string wait_for(const std::string& what, int count) {
     std::string text;
-    for (int i = 0; i < 400; ++i) {
+    for (int i = 0; i < 2400; ++i) {  // up to a minute (a sanitizer build is slow)
       text = slurp(out_);
       int n = 0;
       for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
