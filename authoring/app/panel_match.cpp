@@ -98,6 +98,20 @@ void draw_match_preview(const EditorDocument& doc, UiState& ui, CommandQueue& qu
           const VoteExplanation& e = c.explanation;
           const bool chosen = o.assigned && *o.assigned == c.physical;
           ImGui::TableNextRow();
+          if (!c.excluded_by.empty()) {
+            // Greyed, with the rule that keeps it out.
+            ImGui::TableNextColumn();
+            ImGui::TextDisabled("%zu", r + 1);
+            ImGui::TableNextColumn();
+            ImGui::TextDisabled("%s  (excluded)", c.id.c_str());
+            ImGui::TableNextColumn();
+            ImGui::TextDisabled("vote %.1f", e.vote);
+            ImGui::TableNextColumn();
+            ImGui::TextDisabled("-");
+            ImGui::TableNextColumn();
+            ImGui::TextDisabled("exclude rule %s", c.excluded_by.c_str());
+            continue;
+          }
           if (chosen) ImGui::TableSetBgColor(ImGuiTableBgTarget_RowBg0, IM_COL32(40, 110, 60, 160));
           ImGui::TableNextColumn();
           ImGui::Text("%zu", r + 1);

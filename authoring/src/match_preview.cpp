@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "annex/common/prop_exclusion.h"
+
 namespace annex::authoring {
 
 MatchPreview preview_match(const HapticSpec& spec, const PhysicalScene& scene,
@@ -18,9 +20,16 @@ MatchPreview preview_match(const HapticSpec& spec, const PhysicalScene& scene,
   for (std::size_t r = 0; r < result.voters.size(); ++r) {
     ObjectPreview& o = out.objects[result.voters[r]];
     o.voted = true;
-    for (std::size_t p = 0; p < result.table[r].size(); ++p)
-      o.ranked.push_back({static_cast<int>(p), scene.objects[p].id, result.table[r][p]});
+    for (std::size_t p = 0; p < result.table[r].size(); ++p) {
+      Candidate c{static_cast<int>(p), scene.objects[p].id, result.table[r][p], {}};
+      if (p < result.excluded_by.size() && result.excluded_by[p] >= 0) {
+        const ExcludeRule& rule = spec.exclude[static_cast<std::size_t>(result.excluded_by[p])];
+        c.excluded_by = rule.name + ": " + describe_exclude_rule(rule);
+      }
+      o.ranked.push_back(std::move(c));
+    }
     std::stable_sort(o.ranked.begin(), o.ranked.end(), [](const Candidate& a, const Candidate& b) {
+      if (a.excluded_by.empty() != b.excluded_by.empty()) return a.excluded_by.empty();
       return a.explanation.vote > b.explanation.vote;
     });
   }

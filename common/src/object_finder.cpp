@@ -1,5 +1,7 @@
 #include "annex/common/object_finder.h"
 
+#include "annex/common/prop_exclusion.h"
+
 namespace annex {
 
 MatchResult match_objects(const HapticSpec& spec, const PhysicalScene& scene,
@@ -16,8 +18,15 @@ MatchResult match_objects(const HapticSpec& spec, const PhysicalScene& scene,
       result.voters.push_back(static_cast<int>(i));
   }
   std::vector<int> candidates;
-  for (size_t j = 0; j < scene.objects.size(); ++j)
-    if (!flag(taken, j)) candidates.push_back(static_cast<int>(j));
+  result.excluded_by.assign(scene.objects.size(), -1);
+  for (size_t j = 0; j < scene.objects.size(); ++j) {
+    if (flag(taken, j)) continue;
+    if (auto rule = excluding_rule(spec, scene.objects[j], scene.support)) {
+      result.excluded_by[j] = *rule;
+      continue;
+    }
+    candidates.push_back(static_cast<int>(j));
+  }
 
   WeightMatrix weights{static_cast<int>(result.voters.size()),
                        static_cast<int>(candidates.size()), {}};
@@ -32,6 +41,8 @@ MatchResult match_objects(const HapticSpec& spec, const PhysicalScene& scene,
       weights.values.push_back(e.vote > params.min_vote ? e.vote : 0.0);
       result.table[r][j] = std::move(e);
     }
+    for (size_t j = 0; j < scene.objects.size(); ++j)
+      if (result.excluded_by[j] >= 0) result.table[r][j] = explain_vote(v, scene.objects[j], params.vote);
   }
 
   const Assignment a = max_weight_assignment(weights);

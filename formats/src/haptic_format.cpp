@@ -1,5 +1,6 @@
 #include "annex/formats/haptic_format.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <optional>
@@ -14,7 +15,12 @@ using namespace detail;
 
 constexpr std::string_view kHeader = "annex-haptic";
 constexpr int kVersion = 1;
-constexpr std::string_view kTopKeys[] = {"object"};
+constexpr std::string_view kTopKeys[] = {"object", "exclude"};
+// Keys of an exclude block: its shape, then size ranges by dimension name.
+constexpr std::string_view kExcludeKeys[] = {
+    "shape", "prop_height", "radius", "height", "major_radius", "minor_radius",
+    "size_x", "size_y", "size_z", "end"};
+constexpr std::string_view kRangeKeys[] = {"min", "max"};
 constexpr std::string_view kObjectKeys[] = {"mesh", "annexable", "priority", "primitive", "end"};
 constexpr std::string_view kPrimitiveKeys[] = {"priority", "position", "rotation", "end"};
 constexpr std::string_view kDimensionKeys[] = {"priority", "scale"};
@@ -81,6 +87,73 @@ Error unknown_key(std::string_view origin, const Token& key, std::string_view bl
   return error_at(
       origin, key,
       "unknown key " + shown(key) + " " + std::string(block) + suggestion(key.text, keys));
+}
+
+// An exclude rule being read, with the token of each range's dimension for errors
+// found at its `end` (a dimension that its shape does not have).
+struct OpenExclude {
+  ExcludeRule rule;
+  int line = 0;
+  SeenKeys keys;
+  std::vector<Token> dimension_tokens;
+};
+
+// Why a range's dimension does not apply to the rule's shape, if it does not.
+std::optional<std::string> check_range_dimension(const ExcludeRule& rule,
+                                                 const std::string& dimension) {
+  if (dimension == kPropHeight) return std::nullopt;
+  if (!rule.shape)
+    return "'" + dimension + "' needs a shape in exclude rule '" + rule.name +
+           "'; with any shape only 'prop_height' applies";
+  if (dimension_index(*rule.shape, dimension) >= 0) return std::nullopt;
+  std::string names;
+  for (std::string_view n : dimension_names(*rule.shape)) names += std::string(n) + ", ";
+  return "'" + dimension + "' is not a dimension of a " + std::string(shape_name(*rule.shape)) +
+         " (exclude rule '" + rule.name + "' accepts " + names + "prop_height)";
+}
+
+std::optional<std::string> check_range_bounds(const SizeRange& r) {
+  if (!r.min_m && !r.max_m) return "a size range needs 'min' or 'max' (or both)";
+  for (const auto& b : {r.min_m, r.max_m})
+    if (b && !(std::isfinite(*b) && *b >= 0))
+      return "size range bounds must be finite metres >= 0, found " + format_number(*b);
+  if (r.min_m && r.max_m && *r.min_m > *r.max_m)
+    return "size range minimum " + format_number(*r.min_m) + " is larger than maximum " +
+           format_number(*r.max_m);
+  return std::nullopt;
+}
+
+std::string empty_rule_message(const ExcludeRule& rule) {
+  return "exclude rule '" + rule.name +
+         "' names neither a shape nor a size range: it would exclude every prop";
+}
+
+// `DIMENSION [min X] [max Y]` after the dimension name was taken.
+Status parse_range(LineReader& r, std::string_view origin, const Token& dim, SizeRange& range) {
+  range = SizeRange{dim.text, std::nullopt, std::nullopt};
+  SeenKeys seen;
+  while (!r.at_end()) {
+    const Token& key = r.take();
+    const std::string block = "size range '" + dim.text + "'";
+    if (key.quoted || (key.text != "min" && key.text != "max"))
+      return unknown_key(origin, key, "in " + block, kRangeKeys);
+    if (auto first = seen.find(key.text))
+      return error_at(origin, key,
+                      "duplicate key '" + key.text + "' in " + block + " (first at column " +
+                          std::to_string(*first) + ")");
+    seen.add(key.text, key.column);
+    auto v = r.number(key.text);
+    if (!v) return v.error();
+    if (!(*v >= 0))
+      return error_at(origin, r.last(),
+                      "size range bounds must be finite metres >= 0, found " + format_number(*v));
+    (key.text == "min" ? range.min_m : range.max_m) = *v;
+    if (range.min_m && range.max_m && *range.min_m > *range.max_m)
+      return error_at(origin, r.last(), *check_range_bounds(range));
+  }
+  if (!range.min_m && !range.max_m)
+    return r.missing("expected 'min METRES' and/or 'max METRES' after '" + dim.text + "'");
+  return Ok{};
 }
 
 // Parses `name value [priority w] [scale min max]` after the dimension name was taken.
@@ -172,6 +245,8 @@ Result<HapticSpec> parse_haptic(std::string_view text, std::string_view origin,
   std::map<std::string, int, std::less<>> object_lines;
   std::optional<OpenObject> obj;
   std::optional<OpenPrimitive> prim;
+  std::optional<OpenExclude> excl;
+  std::map<std::string, int, std::less<>> rule_lines;
   bool have_header = false;
   Line line;
 
@@ -239,6 +314,55 @@ Result<HapticSpec> parse_haptic(std::string_view text, std::string_view origin,
         if (auto st = parse_rotation(r, origin, p.primitive.pose.rotation); !st) return st.error();
       }
       if (auto st = r.expect_end(key.text); !st) return st.error();
+      continue;
+    }
+
+    if (excl) {
+      OpenExclude& e = *excl;
+      const std::string block = "in exclude rule '" + e.rule.name + "'";
+      if (key.quoted) return unknown_key(origin, key, block, kExcludeKeys);
+      if (key.text == "end") {
+        if (auto st = parse_end(r); !st) return st.error();
+        for (size_t i = 0; i < e.rule.ranges.size(); ++i)
+          if (auto msg = check_range_dimension(e.rule, e.rule.ranges[i].dimension))
+            return error_at(origin, e.dimension_tokens[i], *msg);
+        if (!e.rule.shape && e.rule.ranges.empty())
+          return error_at(origin, key, empty_rule_message(e.rule));
+        spec.exclude.push_back(std::move(e.rule));
+        excl.reset();
+        continue;
+      }
+      if (key.text == "object" || key.text == "exclude" || key.text == "primitive")
+        return error_at(origin, key,
+                        "missing 'end' for exclude rule '" + e.rule.name + "' (opened at line " +
+                            std::to_string(e.line) + ") before '" + key.text + "'");
+      const bool known =
+          std::find(std::begin(kExcludeKeys), std::end(kExcludeKeys), key.text) !=
+          std::end(kExcludeKeys);
+      if (!known) return unknown_key(origin, key, block, kExcludeKeys);
+      if (auto first = e.keys.find(key.text))
+        return duplicate_key(origin, key, "exclude rule '" + e.rule.name + "'", *first);
+      e.keys.add(key.text, key.line);
+      if (key.text == "shape") {
+        if (r.at_end())
+          return r.missing("expected a shape or 'any' after 'shape' (one of: " + shape_list() +
+                           ", any)");
+        const Token& v = r.take();
+        if (v.quoted || v.text != "any") {
+          const auto kind = v.quoted ? std::nullopt : shape_from_name(v.text);
+          if (!kind)
+            return error_at(origin, v,
+                            "unknown shape " + shown(v) + suggestion(v.text, kShapeNames) +
+                                " (or 'any')");
+          e.rule.shape = *kind;
+        }
+        if (auto st = r.expect_end("shape " + v.text); !st) return st.error();
+        continue;
+      }
+      SizeRange range;
+      if (auto st = parse_range(r, origin, key, range); !st) return st.error();
+      e.rule.ranges.push_back(std::move(range));
+      e.dimension_tokens.push_back(key);
       continue;
     }
 
@@ -338,6 +462,25 @@ Result<HapticSpec> parse_haptic(std::string_view text, std::string_view origin,
       obj = std::move(o);
       continue;
     }
+    if (!key.quoted && key.text == "exclude") {
+      auto name = r.identifier("exclude rule name", "exclude");
+      if (!name) return name.error();
+      const Token name_tok = r.last();
+      if (auto st = r.expect_end("exclude " + *name); !st) return st.error();
+      if (auto it = rule_lines.find(*name); it != rule_lines.end())
+        return error_at(origin, name_tok,
+                        "duplicate exclude rule name '" + *name + "' (first at line " +
+                            std::to_string(it->second) + ")");
+      if (spec.exclude.size() >= kMaxObjects)
+        return error_at(origin, key,
+                        "more than " + std::to_string(kMaxObjects) + " exclude rules in one file");
+      rule_lines.emplace(*name, key.line);
+      OpenExclude e;
+      e.rule.name = *name;
+      e.line = key.line;
+      excl = std::move(e);
+      continue;
+    }
     if (!key.quoted && key.text == "end")
       return error_at(origin, key, "stray 'end' at top level; no object is open");
     return unknown_key(origin, key, "at top level", kTopKeys);
@@ -352,6 +495,10 @@ Result<HapticSpec> parse_haptic(std::string_view text, std::string_view origin,
   if (obj)
     return Error{"missing 'end' for object '" + obj->object.name + "' (opened at line " +
                      std::to_string(obj->line) + ") at the end of the input",
+                 eof};
+  if (excl)
+    return Error{"missing 'end' for exclude rule '" + excl->rule.name + "' (opened at line " +
+                     std::to_string(excl->line) + ") at the end of the input",
                  eof};
   return spec;
 }
@@ -424,6 +571,29 @@ Status validate_haptic(const HapticSpec& spec, std::string_view origin) {
           return fail(pwhere, *msg);
     }
   }
+  if (spec.exclude.size() > kMaxObjects)
+    return fail(base, "more than " + std::to_string(kMaxObjects) + " exclude rules in one file");
+  std::map<std::string_view, std::size_t> rule_index;
+  for (std::size_t ri = 0; ri < spec.exclude.size(); ++ri) {
+    const ExcludeRule& rule = spec.exclude[ri];
+    const std::string where = base + ": exclude rule " + in_quotes(rule.name);
+    if (!is_identifier(rule.name))
+      return fail(where, invalid_name_message("exclude rule name", in_quotes(rule.name)));
+    if (!rule_index.emplace(rule.name, ri).second)
+      return fail(where, "duplicate exclude rule name '" + rule.name + "'");
+    if (rule.shape && !shape_from_name(shape_name(*rule.shape)))
+      return fail(where, "unknown shape; expected one of: " + shape_list() + ", any");
+    if (!rule.shape && rule.ranges.empty()) return fail(where, empty_rule_message(rule));
+    std::map<std::string_view, int> seen;
+    for (const SizeRange& range : rule.ranges) {
+      if (!seen.emplace(range.dimension, 0).second)
+        return fail(where, "duplicate key '" + range.dimension + "' in exclude rule '" +
+                               rule.name + "'");
+      if (auto msg = check_range_dimension(rule, range.dimension)) return fail(where, *msg);
+      if (auto msg = check_range_bounds(range))
+        return fail(where, *msg + " (dimension '" + range.dimension + "')");
+    }
+  }
   return Ok{};
 }
 
@@ -451,6 +621,18 @@ std::string write_haptic(const HapticSpec& spec) {
                format_number(d.max_scale) + "\n";
       }
       out += "  end\n";
+    }
+    out += "end\n";
+  }
+  for (const ExcludeRule& rule : spec.exclude) {
+    out += "\nexclude " + rule.name + "\n";
+    out += "  shape " + (rule.shape ? std::string(shape_name(*rule.shape)) : std::string("any")) +
+           "\n";
+    for (const SizeRange& range : rule.ranges) {
+      out += "  " + range.dimension;
+      if (range.min_m) out += " min " + format_number(*range.min_m);
+      if (range.max_m) out += " max " + format_number(*range.max_m);
+      out += "\n";
     }
     out += "end\n";
   }

@@ -13,8 +13,10 @@
 
 #include "annex/formats/haptic_format.h"
 #include "annex/runtime/annex_session.h"
+#include "annex/runtime/fault_injection.h"
 #include "annex/runtime/frame_grabber.h"
 #include "annex/runtime/match_report.h"
+#include "annex/runtime/osc_stream.h"
 #include "annex/runtime/renderer.h"
 #include "annex/runtime/target_volume_segmenter.h"
 #include "commands.h"
@@ -73,7 +75,8 @@ int run_run(const std::vector<std::string>& args) {
       kName, args,
       {{"window", "stereo", "no-overlays", "points", "realtime"},
        {"source", "out", "frames", "scan-every", "release-after", "threads", "config", "hmd",
-        "occlusion", "depth-scale", "intrinsics"}});
+         "occlusion", "depth-scale", "intrinsics", "stream", "listen", "exclude",
+         "inject-faults", "source-retries"}});
   if (!parsed) return kExitBadInput;
   if (parsed->positional.size() != 1)
     return fail("expected one SPEC.haptic (see --help)", kExitBadInput);
@@ -96,9 +99,10 @@ int run_run(const std::vector<std::string>& args) {
     return true;
   };
   long scan_every = params.scan_every, release = params.release_after_frames,
-       threads = params.threads;
+       threads = params.threads, source_retries = 30;
   if (!count("frames", max_frames, 0) || !count("scan-every", scan_every, 1) ||
-      !count("release-after", release, 1) || !count("threads", threads, 1))
+      !count("release-after", release, 1) || !count("threads", threads, 1) ||
+      !count("source-retries", source_retries, 0))
     return kExitBadInput;
   double occlusion_m = -1;
   if (auto v = parsed->get("occlusion")) {
@@ -140,6 +144,14 @@ int run_run(const std::vector<std::string>& args) {
     std::cerr << grabber.error().format() << "\n";
     return kExitBadInput;
   }
+  if (auto plan_text = parsed->get("inject-faults")) {
+    auto plan = parse_fault_plan(*plan_text);
+    if (!plan) {
+      std::cerr << plan.error().format() << "\n";
+      return kExitBadInput;
+    }
+    *grabber = inject_faults(std::move(*grabber), std::move(*plan));
+  }
   std::cerr << "annex-runtime run: " << (*grabber)->describe() << "\n";
 
   // Outputs.
@@ -171,6 +183,38 @@ int run_run(const std::vector<std::string>& args) {
   }
 
   AnnexSession session(*spec, params);
+  // The OSC stream and the game's answers (docs/streaming.md).
+  std::vector<std::string> stream_urls;
+  for (const auto& [name, value] : parsed->options)
+    if (name == "stream") stream_urls.push_back(value);
+  std::optional<OscStream> stream;
+  if (!stream_urls.empty()) {
+    auto opened = OscStream::open(stream_urls);
+    if (!opened) return fail(opened.error().format(), kExitBadInput);
+    stream.emplace(std::move(*opened));
+  }
+  std::optional<OscListener> listener;
+  if (auto url = parsed->get("listen")) {
+    auto opened = OscListener::open(*url);
+    if (!opened) return fail(opened.error().format(), kExitBadInput);
+    listener.emplace(std::move(*opened));
+    std::cerr << "annex-runtime run: listening for /annex/exclude and /annex/rescan on UDP port "
+              << listener->port() << "\n";
+  }
+  if (auto ids = parsed->get("exclude")) {
+    size_t start = 0;
+    for (;;) {
+      const size_t comma = ids->find(',', start);
+      const std::string id = ids->substr(start, comma == std::string::npos ? comma : comma - start);
+      if (id.empty() || id.find_first_of(" \t") != std::string::npos)
+        return fail("--exclude expects physical ids separated by commas (p1,p3), got '" + *ids +
+                        "'",
+                    kExitBadInput);
+      session.exclude(id);
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+  }
   std::vector<std::vector<Drawable>> drawables(spec->objects.size());
   std::vector<bool> uploaded(spec->objects.size(), false);
   std::optional<CameraIntrinsics> camera;
@@ -180,22 +224,61 @@ int run_run(const std::vector<std::string>& args) {
   std::future<Status> png_write;
   auto finish_png = [&]() -> Status { return png_write.valid() ? png_write.get() : Status{Ok{}}; };
   std::vector<double> frame_ms, track_ms, scan_ms;
-  int frames = 0, errors = 0, matches_made = 0;
+  int frames = 0, errors = 0, matches_made = 0, failed_reads = 0;
   std::optional<Error> last_scan_error;
+  FrameHealthMonitor health;
+  std::vector<std::string> last_state(spec->objects.size());  // per virtual object
   const auto t_start = std::chrono::steady_clock::now();
   while (max_frames == 0 || frames < max_frames) {
+    const auto t_read = std::chrono::steady_clock::now();
     Result<std::optional<Frame>> next = (*grabber)->next();
+    const double read_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_read).count();
     if (!next) {
       std::cerr << next.error().format() << "\n";
-      // A live sensor that fails is gone; a bad recorded frame is skipped.
-      if (!(*grabber)->frame_count()) return kExitFailure;
-      ++errors;
+      // A bad recorded frame is skipped; a live sensor that fails is waited for (it may
+      // come back: a loose cable) until it failed --source-retries reads in a row.
+      if ((*grabber)->frame_count()) {
+        ++errors;
+        continue;
+      }
+      if (++failed_reads > source_retries) {
+        if (auto st = png_write.valid() ? png_write.get() : Status{Ok{}}; !st)
+          std::cerr << st.error().format() << "\n";
+        return fail("the source failed " + std::to_string(failed_reads) +
+                        " reads in a row; giving up",
+                    kExitFailure);
+      }
       continue;
     }
+    if (failed_reads > 0)
+      std::cerr << "annex-runtime run: the source delivers again after " << failed_reads
+                << (failed_reads == 1 ? " failed read\n" : " failed reads\n");
+    failed_reads = 0;
     if (!*next) break;
     const Frame& frame = **next;
     const int i = frames++;
+    for (const std::string& note : health.check(frame, read_s))
+      std::cerr << "annex-runtime run: frame " << i << ": " << note << "\n";
+    if (listener) {
+      std::vector<std::string> ignored;
+      for (const OscCommand& c : listener->poll(&ignored)) {
+        if (c.kind == OscCommand::Kind::exclude) {
+          std::cerr << "annex-runtime run: frame " << i << ": OSC asks to exclude "
+                    << c.physical_id << "\n";
+          session.exclude(c.physical_id);
+        } else {
+          std::cerr << "annex-runtime run: frame " << i << ": OSC asks for a rescan\n";
+          session.rescan();
+        }
+      }
+      for (const std::string& w : ignored) std::cerr << "annex-runtime run: warning: " << w << "\n";
+    }
     const FrameReport r = session.process(frame);
+    if (stream)
+      for (const std::string& problem : stream->send(*spec, r))
+        std::cerr << "annex-runtime run: warning: " << problem << "\n";
+    for (const std::string& id : r.excluded) std::cout << "frame " << i << " exclude " << id << "\n";
     frame_ms.push_back(r.times.total_ms);
     track_ms.push_back(r.times.track_ms);
     if (r.scanned) scan_ms.push_back(r.times.scan_ms);
@@ -203,10 +286,27 @@ int run_run(const std::vector<std::string>& args) {
 
     for (const std::string& name : r.released)
       std::cout << "frame " << i << " release " << name << "\n";
+    // Tracking state changes of props already annexed (held, lost, back to tracking).
+    for (const AnnexedObject& o : r.objects) {
+      std::string& last = last_state[static_cast<size_t>(o.virtual_index)];
+      const std::string state(tracking_state_name(o.track.state));
+      if (o.matched_frame != frame.index && !last.empty() && state != last)
+        std::cout << "frame " << i << " state " << o.virtual_name << " " << o.physical_id << " "
+                  << state << "\n";
+      last = state;
+    }
+    for (const std::string& name : r.released)
+      for (size_t v = 0; v < spec->objects.size(); ++v)
+        if (spec->objects[v].name == name &&
+            std::none_of(r.objects.begin(), r.objects.end(),
+                         [&](const AnnexedObject& o) { return o.virtual_name == name; }))
+          last_state[v].clear();
+    // Each frame's lines go to poses.txt and matches.txt in one write, so a run that is
+    // killed leaves whole lines.
+    std::string match_block;
     if (r.match) {
-      if (matches.is_open())
-        matches << "frame " << i << "\n"
-                << format_vote_table(*spec, *r.match_scene, *r.match) << "\n";
+      match_block = "frame " + std::to_string(i) + "\n" +
+                    format_vote_table(*spec, *r.match_scene, *r.match) + "\n";
       for (const AnnexedObject& o : r.objects) {
         if (o.matched_frame != frame.index) continue;
         ++matches_made;
@@ -214,20 +314,27 @@ int run_run(const std::vector<std::string>& args) {
         std::snprintf(vote, sizeof vote, "%.2f", o.vote);
         std::cout << "frame " << i << " match " << o.virtual_name << " " << o.physical_id << " "
                   << vote << "\n";
-        if (matches.is_open())
-          matches << "match " << o.virtual_name << " " << o.physical_id << " " << vote << "\n";
+        match_block += "match " + o.virtual_name + " " + o.physical_id + " " + vote + "\n";
       }
-      if (matches.is_open()) matches << "\n";
+      match_block += "\n";
     }
-    if (poses.is_open())
-      for (const AnnexedObject& o : r.objects) poses << format_pose_line(i, *spec, o) << "\n";
+    if (matches.is_open() && !match_block.empty()) matches << match_block << std::flush;
+    if (poses.is_open()) {
+      std::string pose_block;
+      for (const AnnexedObject& o : r.objects) pose_block += format_pose_line(i, *spec, o) + "\n";
+      poses << pose_block << std::flush;
+    }
 
     if (!renderer) continue;
-    if (!camera) {
-      if (auto k = estimate_intrinsics(frame))
+    // Again when the resolution changes (the sensor switched modes).
+    if (!camera || camera->width != frame.width || camera->height != frame.height) {
+      if (auto k = estimate_intrinsics(frame)) {
         camera = *k;
-      else
-        camera = CameraIntrinsics{};
+      } else {  // the Kinect's defaults, at this resolution
+        const double s = frame.width / 640.0;
+        camera = CameraIntrinsics{frame.width, frame.height, 525.0 * s, 525.0 * s,
+                                  (frame.width - 1) / 2.0, (frame.height - 1) / 2.0};
+      }
     }
     RenderScene rs;
     rs.frame = &frame;
@@ -288,6 +395,13 @@ int run_run(const std::vector<std::string>& args) {
     if (last_scan_error) std::cerr << " (last scan: " << last_scan_error->message << ")";
     std::cerr << "\n";
   }
+  if (stream)
+    for (const OscTargetStats& t : stream->stats())
+      std::cerr << "annex-runtime run: " << t.url << ": " << t.bundles_sent << " bundles sent"
+                << (t.bundles_failed ? ", " + std::to_string(t.bundles_failed) +
+                                           " not delivered (" + t.first_error + ")"
+                                     : std::string())
+                << "\n";
   for (const AnnexedObject& o : session.objects())
     std::cout << "annexed " << o.virtual_name << " " << o.physical_id
               << " state=" << tracking_state_name(o.track.state) << "\n";
@@ -304,6 +418,9 @@ extern const Command kRunCommand = {
     "                         [--release-after N] [--threads N] [--config SCAN.conf]\n"
     "                         [--no-overlays] [--points] [--occlusion M] [--realtime]\n"
     "                         [--depth-scale S] [--intrinsics fx,fy,cx,cy]\n"
+    "                         [--stream osc.udp://HOST:PORT]... [--listen osc.udp://:PORT]\n"
+    "                         [--exclude ID[,ID...]] [--inject-faults PLAN]\n"
+    "                         [--source-retries N]\n"
     "\n"
     "SRC is a .pcd file, a directory of .pcd frames (name order), a TUM RGB-D sequence\n"
     "(a directory with depth.txt and rgb.txt), a directory of 16-bit depth PNGs or one,\n"
@@ -314,6 +431,8 @@ extern const Command kRunCommand = {
     "up, and a prop lost for N frames is released. Prints\n"
     "  frame <i> match <virtual-name> <physical-id> <vote>\n"
     "  frame <i> release <virtual-name>\n"
+    "  frame <i> exclude <physical-id>                      (an exclusion takes effect)\n"
+    "  frame <i> state <virtual-name> <physical-id> <state> (a track's state changed)\n"
     "  annexed <virtual-name> <physical-id> state=<state>      (at the end)\n"
     "\n"
     "  --out DIR         write DIR/poses.txt (one line per frame per annexed object:\n"
@@ -337,9 +456,24 @@ extern const Command kRunCommand = {
     "  --realtime        deliver recorded frames at their recorded rate\n"
     "  --depth-scale S   depth PNG value per metre (default 1000; a TUM sequence 5000)\n"
     "  --intrinsics LIST depth PNG camera fx,fy,cx,cy (default the Kinect's)\n"
+    "  --stream URL      send every frame as one OSC bundle to URL, osc.udp://HOST:PORT\n"
+    "                    (repeatable; docs/streaming.md): /annex/frame, /annex/object per\n"
+    "                    annexed object, /annex/released, /annex/excluded. A target that\n"
+    "                    cannot be reached is reported once; the run goes on\n"
+    "  --listen URL      receive /annex/exclude <physical-id> and /annex/rescan on\n"
+    "                    osc.udp://:PORT\n"
+    "  --exclude IDS     props never to annex (p1,p3: ids as the first scan gives them);\n"
+    "                    an excluded prop is released if annexed and never voted on\n"
+    "                    again while it stays in view\n"
+    "  --inject-faults PLAN  test the loop against sensor faults, e.g.\n"
+    "                    stall@3:500,drop@5-6,nan@8-20,halfres@30-34,disconnect@40-45\n"
+    "                    (numbers count reads of the source; docs/reliability.md)\n"
+    "  --source-retries N  failed reads in a row of a live source before giving up\n"
+    "                    (default 30)\n"
     "\n"
-    "Exit 0 on success, 1 when the source fails (a lost sensor, no frame) or no OpenGL\n"
-    "context exists for --window, 2 on bad arguments or input.\n",
+    "Exit 0 on success, 1 when the source fails (a live sensor that failed --source-retries\n"
+    "reads in a row, no frame) or no OpenGL context exists for --window, 2 on bad\n"
+    "arguments or input.\n",
     run_run};
 
 }  // namespace annex::cli

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <numeric>
 #include <thread>
+#include <utility>
 
 namespace annex {
 namespace {
@@ -143,6 +144,39 @@ std::string format_pose_line(int frame_index, const HapticSpec& spec, const Anne
 AnnexSession::AnnexSession(HapticSpec spec, SessionParams params)
     : spec_(std::move(spec)), params_(std::move(params)) {}
 
+void AnnexSession::exclude(std::string physical_id) {
+  exclude_requests_.push_back(std::move(physical_id));
+}
+
+std::vector<std::string> AnnexSession::excluded_ids() const {
+  std::vector<std::string> ids;
+  for (const ExcludedProp& e : excluded_) ids.push_back(e.physical_id);
+  ids.insert(ids.end(), exclude_waiting_.begin(), exclude_waiting_.end());
+  return ids;
+}
+
+// An annexed prop the user excluded is released and keeps its track as an excluded
+// prop; an id no prop has yet waits for the scan that gives it.
+void AnnexSession::apply_exclude_requests(FrameReport& report) {
+  for (std::string& id : exclude_requests_) {
+    const auto annexed = std::find_if(objects_.begin(), objects_.end(),
+                                      [&](const AnnexedObject& o) { return o.physical_id == id; });
+    if (annexed != objects_.end()) {
+      report.released.push_back(annexed->virtual_name);
+      report.excluded.push_back(id);
+      excluded_.push_back({id, std::move(annexed->track)});
+      objects_.erase(annexed);
+      continue;
+    }
+    const bool known =
+        std::any_of(excluded_.begin(), excluded_.end(),
+                    [&](const ExcludedProp& e) { return e.physical_id == id; }) ||
+        std::find(exclude_waiting_.begin(), exclude_waiting_.end(), id) != exclude_waiting_.end();
+    if (!known) exclude_waiting_.push_back(std::move(id));
+  }
+  exclude_requests_.clear();
+}
+
 FrameReport AnnexSession::process(const Frame& frame) {
   const auto t_frame = Clock::now();
   FrameReport report;
@@ -153,23 +187,31 @@ FrameReport AnnexSession::process(const Frame& frame) {
     if (Result<CameraIntrinsics> k = estimate_intrinsics(frame)) camera_ = *k;
   }
 
-  // Scan until something is annexed, then every scan_every frames.
-  const bool scan_now = objects_.empty() || ++frames_since_scan_ >= params_.scan_every;
+  report.timestamp_s = frame.timestamp_s;
+  apply_exclude_requests(report);
 
-  // Trackers run on the pool while this thread scans.
+  // Scan until something is annexed, then every scan_every frames (or when asked).
+  const bool scan_now =
+      std::exchange(rescan_, false) || objects_.empty() || ++frames_since_scan_ >= params_.scan_every;
+
+  // Trackers run on the pool while this thread scans: the annexed props, then the
+  // excluded ones.
+  std::vector<ObjectTrack*> tracks;
+  for (AnnexedObject& o : objects_) tracks.push_back(&o.track);
+  for (ExcludedProp& e : excluded_) tracks.push_back(&e.track);
   TrackingInput input;
   input.frame = &frame;
   input.camera = camera_;
   input.support = support_;
-  std::vector<ObjectTrack> tracked(objects_.size());
-  std::vector<TrackingInput> inputs(objects_.size(), input);
-  for (size_t i = 0; i < objects_.size(); ++i)
+  std::vector<ObjectTrack> tracked(tracks.size());
+  std::vector<TrackingInput> inputs(tracks.size(), input);
+  for (size_t i = 0; i < tracks.size(); ++i)
     for (const PhysicalObject& o : last_scan_objects_)
       for (const PhysicalPrimitive& p : o.primitives)
-        if (p.kind == objects_[i].track.model->kind) inputs[i].candidates.push_back(p.center);
+        if (p.kind == tracks[i]->model->kind) inputs[i].candidates.push_back(p.center);
   const auto t_track = Clock::now();
-  TaskGroup pool(static_cast<int>(objects_.size()), params_.threads, [&](int i) {
-    tracked[i] = track_step(objects_[i].track, inputs[i], params_.tracker);
+  TaskGroup pool(static_cast<int>(tracks.size()), params_.threads, [&](int i) {
+    tracked[i] = track_step(*tracks[i], inputs[i], params_.tracker);
   });
   if (scan_now) {
     const auto t0 = Clock::now();
@@ -185,7 +227,12 @@ FrameReport AnnexSession::process(const Frame& frame) {
   }
   pool.join();
   report.times.track_ms = ms_since(t_track);
-  for (size_t i = 0; i < objects_.size(); ++i) objects_[i].track = std::move(tracked[i]);
+  for (size_t i = 0; i < tracks.size(); ++i) *tracks[i] = std::move(tracked[i]);
+  // An excluded prop lost this long has left the view: its exclusion ends.
+  std::erase_if(excluded_, [&](const ExcludedProp& e) {
+    return e.track.state == TrackingState::lost &&
+           e.track.lost_frames >= params_.release_after_frames;
+  });
 
   // Release props lost for too long: their virtual objects vote again.
   std::erase_if(objects_, [&](const AnnexedObject& o) {
@@ -199,29 +246,54 @@ FrameReport AnnexSession::process(const Frame& frame) {
     ScanResult& scan = *report.scan;
     support_ = scan.plane;
     last_scan_objects_ = scan.scene.objects;
-    // Which scanned objects are props already annexed (nearest first, one each).
+    // Which scanned objects are props already annexed or excluded (nearest first, one
+    // each; excluded props after the annexed ones in `tracks`).
     PhysicalScene scene = scan.scene;
     std::vector<bool> taken(scene.objects.size(), false);
     std::vector<std::tuple<double, size_t, size_t>> pairs;
-    for (size_t a = 0; a < objects_.size(); ++a)
+    auto id_of = [&](size_t a) -> const std::string& {
+      return a < objects_.size() ? objects_[a].physical_id
+                                 : excluded_[a - objects_.size()].physical_id;
+    };
+    const size_t known_props = objects_.size() + excluded_.size();
+    for (size_t a = 0; a < known_props; ++a) {
+      const Vec3 at = a < objects_.size() ? objects_[a].track.pose.position
+                                          : excluded_[a - objects_.size()].track.pose.position;
       for (size_t j = 0; j < scene.objects.size(); ++j) {
-        const double d = distance_to(scene.objects[j], objects_[a].track.pose.position);
+        const double d = distance_to(scene.objects[j], at);
         if (d <= params_.same_prop_m) pairs.emplace_back(d, a, j);
       }
+    }
     std::sort(pairs.begin(), pairs.end());
-    std::vector<bool> object_done(objects_.size(), false);
+    std::vector<bool> object_done(known_props, false);
     for (const auto& [d, a, j] : pairs) {
       if (object_done[a] || taken[j]) continue;
       object_done[a] = true;
       taken[j] = true;
-      scene.objects[j].id = objects_[a].physical_id;
+      scene.objects[j].id = id_of(a);
     }
     // Fresh, never reused ids for the others, in scan order.
     std::vector<bool> matched(spec_.objects.size(), false);
     for (const AnnexedObject& o : objects_) matched[static_cast<size_t>(o.virtual_index)] = true;
     int fresh = next_prop_id_;
-    for (size_t j = 0; j < scene.objects.size(); ++j)
-      if (!taken[j]) scene.objects[j].id = "p" + std::to_string(fresh++);
+    for (size_t j = 0; j < scene.objects.size(); ++j) {
+      if (taken[j]) continue;
+      PhysicalObject& po = scene.objects[j];
+      po.id = "p" + std::to_string(fresh++);
+      // An id the user excluded before any prop had it: this prop, tracked, never votes.
+      const auto waiting = std::find(exclude_waiting_.begin(), exclude_waiting_.end(), po.id);
+      if (waiting == exclude_waiting_.end() || po.primitives.empty() ||
+          j >= scan.clusters.size())
+        continue;
+      const PhysicalPrimitive& salient = po.primitives[0];
+      excluded_.push_back({po.id, start_track(salient.kind, scan.clusters[j].points,
+                                              {salient.center, rotation_from_z(salient.axis)},
+                                              params_.model_points)});
+      exclude_waiting_.erase(waiting);
+      report.excluded.push_back(po.id);
+      taken[j] = true;
+      next_prop_id_ = std::max(next_prop_id_, fresh);
+    }
 
     bool anyone_votes = false;
     for (size_t v = 0; v < spec_.objects.size(); ++v)

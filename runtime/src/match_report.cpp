@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "annex/common/prop_exclusion.h"
+
 namespace annex {
 namespace {
 
@@ -60,6 +62,12 @@ std::string format_vote_table(const HapticSpec& spec, const PhysicalScene& scene
   for (int v : result.voters) name_width = std::max(name_width, spec.objects[v].name.size() + 1);
   size_t col_width = 8;
   for (const auto& p : scene.objects) col_width = std::max(col_width, p.id.size() + 2);
+  auto excluded = [&](size_t j) {
+    return j < result.excluded_by.size() && result.excluded_by[j] >= 0;
+  };
+  // Votes of excluded props go in parentheses: room for them.
+  for (size_t j = 0; j < scene.objects.size(); ++j)
+    if (excluded(j)) col_width = std::max<size_t>(col_width, 10);
 
   std::string out = "votes (rows: virtual objects that vote; columns: physical objects)\n";
   out += pad("", name_width);
@@ -67,9 +75,22 @@ std::string format_vote_table(const HapticSpec& spec, const PhysicalScene& scene
   out += "\n";
   for (size_t r = 0; r < result.voters.size(); ++r) {
     out += pad(spec.objects[result.voters[r]].name, name_width);
-    for (size_t j = 0; j < scene.objects.size(); ++j)
-      out += pad(fixed(result.table[r][j].vote, 2), col_width);
+    for (size_t j = 0; j < scene.objects.size(); ++j) {
+      const std::string vote = fixed(result.table[r][j].vote, 2);
+      out += pad(excluded(j) ? "(" + vote + ")" : vote, col_width);
+    }
     out += "\n";
+  }
+  bool any_excluded = false;
+  for (size_t j = 0; j < scene.objects.size(); ++j) {
+    if (!excluded(j)) continue;
+    if (!any_excluded) out += "\nexcluded by the spec (votes in parentheses, never matched)\n";
+    any_excluded = true;
+    const ExcludeRule& rule = spec.exclude[static_cast<size_t>(result.excluded_by[j])];
+    char height[48];
+    std::snprintf(height, sizeof height, "%.3f", prop_height_m(scene.objects[j], scene.support));
+    out += "  " + scene.objects[j].id + ": rule '" + rule.name + "' (" +
+           describe_exclude_rule(rule) + "); prop_height " + height + " m\n";
   }
   out += "\nbreakdown (pairs that share a shape)\n";
   for (size_t r = 0; r < result.voters.size(); ++r) {

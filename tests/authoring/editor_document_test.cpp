@@ -259,5 +259,24 @@ TEST(EditorDocument, UntitledAutosaveGoesToTheStateDir) {
   ::unsetenv("ANNEX_AUTHOR_STATE_DIR");
 }
 
+// The spec's exclude rules (props never to annex) survive the editor: opened, edited
+// and saved, they are written back unchanged.
+TEST(EditorDocument, KeepsTheSpecsExcludeRules) {
+  const auto dir = testing::fresh_dir("exclude");
+  const auto path = dir / "rules.haptic";
+  HapticSpec spec;
+  spec.exclude.push_back({"tall", std::nullopt, {{"prop_height", 0.4, std::nullopt}}});
+  ASSERT_TRUE(write_haptic_file(path, spec).ok());
+  auto doc = EditorDocument::open(path);
+  ASSERT_TRUE(doc.ok()) << doc.error().format();
+  ASSERT_TRUE(doc->apply(cmd::AddObject{"bottle"}));
+  ASSERT_TRUE(doc->apply(cmd::AddPrimitive{0, ShapeKind::cylinder, std::nullopt, "body"}));
+  ASSERT_TRUE(doc->save());
+  const auto saved = read_haptic_file(path);
+  ASSERT_TRUE(saved.ok()) << saved.error().format();
+  EXPECT_EQ(saved->exclude, spec.exclude);
+  EXPECT_EQ(saved->objects.size(), 1u);
+}
+
 }  // namespace
 }  // namespace annex::authoring

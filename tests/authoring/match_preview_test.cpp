@@ -62,5 +62,34 @@ TEST(MatchPreview, NoSharedShapeStaysVirtualOnly) {
   EXPECT_EQ(mp.objects[0].ranked[0].explanation.vote, 0.0);
 }
 
+// The spec's exclude rules: the excluded prop ranks last with its rule, greyed in the
+// panel, and the next best prop is assigned.
+TEST(MatchPreview, ExcludedPropsCarryTheirRule) {
+  HapticSpec spec;
+  VirtualObject bottle;
+  bottle.name = "bottle";
+  Primitive body = make_primitive(ShapeKind::cylinder, "body");
+  body.dimensions[0].value_m = 0.045;
+  body.dimensions[1].value_m = 0.2;
+  bottle.primitives.push_back(body);
+  spec.objects.push_back(bottle);
+  spec.exclude.push_back({"wide", ShapeKind::cylinder, {{"radius", 0.03, std::nullopt}}});
+
+  PhysicalScene scene;
+  scene.objects.push_back(cylinder_prop("wine_bottle", 0.04, 0.2));
+  scene.objects.push_back(cylinder_prop("thin_pen", 0.005, 0.14));
+  const MatchPreview mp = preview_match(spec, scene);
+  const ObjectPreview& b = mp.objects[0];
+  ASSERT_EQ(b.ranked.size(), 2u);
+  EXPECT_EQ(b.ranked[0].id, "thin_pen");
+  EXPECT_TRUE(b.ranked[0].excluded_by.empty());
+  EXPECT_EQ(b.ranked[1].id, "wine_bottle");
+  EXPECT_EQ(b.ranked[1].excluded_by, "wide: shape cylinder, radius min 0.03");
+  // Its vote is still shown: higher than the pen's, but not assigned.
+  EXPECT_GT(b.ranked[1].explanation.vote, b.ranked[0].explanation.vote);
+  ASSERT_TRUE(b.assigned.has_value());
+  EXPECT_EQ(b.assigned_id, "thin_pen");
+}
+
 }  // namespace
 }  // namespace annex::authoring

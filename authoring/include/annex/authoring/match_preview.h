@@ -16,6 +16,9 @@ struct Candidate {
   int physical = -1;  // into PhysicalScene::objects
   std::string id;
   VoteExplanation explanation;
+  // The spec's exclude rule that keeps this prop out ("tall: shape any, prop_height
+  // min 0.4"); empty when it takes part. Excluded props rank last, greyed.
+  std::string excluded_by;
 };
 
 struct ObjectPreview {

@@ -3,7 +3,9 @@
 // primitives placed on its visual mesh, three levels of priority and per-dimension
 // scaling limits. This is what the editor saves and the runtime reads.
 
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "annex/common/geometry.h"
@@ -39,9 +41,30 @@ struct VirtualObject {
   bool operator==(const VirtualObject&) const = default;
 };
 
-// A whole .haptic file: the virtual objects of one AR scene.
+// One size range of an exclude rule, inclusive, in metres: a dimension of the rule's
+// shape (`radius`, `size_x`...) or kPropHeight, the prop's height above its support.
+inline constexpr std::string_view kPropHeight = "prop_height";
+struct SizeRange {
+  std::string dimension;
+  std::optional<double> min_m;  // none: no lower bound
+  std::optional<double> max_m;  // none: no upper bound
+  bool operator==(const SizeRange&) const = default;
+};
+
+// Props the developer forbids (the paper's future work, for safety: nothing taller
+// than 40 cm, no sphere larger than a football). A physical object is excluded when
+// one of its primitives has `shape` (any shape when unset) and every range holds.
+struct ExcludeRule {
+  std::string name;
+  std::optional<ShapeKind> shape;
+  std::vector<SizeRange> ranges;
+  bool operator==(const ExcludeRule&) const = default;
+};
+
+// A whole .haptic file: the virtual objects of one AR scene and the props never to annex.
 struct HapticSpec {
   std::vector<VirtualObject> objects;
+  std::vector<ExcludeRule> exclude = {};  // (a default, so {objects} initialisers stay warning-free)
   bool operator==(const HapticSpec&) const = default;
 };
 

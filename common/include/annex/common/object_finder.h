@@ -31,10 +31,15 @@ struct MatchResult {
   std::vector<std::vector<VoteExplanation>> table;  // [voter][physical object]
   std::vector<MatchEntry> matches;         // one per spec object, in spec order
   double total_vote = 0;
+  // Per physical object: the index into HapticSpec::exclude of the rule that keeps it
+  // out of the match, or -1. Excluded objects are never assigned; their votes are still
+  // in `table`, to show what the rule prevented.
+  std::vector<int> excluded_by;
 };
 
 // `taken` marks physical objects already annexed (they do not take part); `matched`
 // marks virtual objects that already have a prop (they do not vote). Either may be empty.
+// Physical objects the spec's exclude rules forbid never take part (excluded_by).
 MatchResult match_objects(const HapticSpec& spec, const PhysicalScene& scene,
                           const MatchParams& params = {},
                           const std::vector<bool>& matched = {},

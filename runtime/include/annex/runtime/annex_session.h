@@ -78,6 +78,8 @@ struct FrameReport {
   std::vector<std::string> released;   // virtual names whose props were released
   std::vector<AnnexedObject> objects;  // annexed objects after this frame, spec order
   FrameTimes times;
+  double timestamp_s = 0;              // the frame's
+  std::vector<std::string> excluded;   // physical ids whose exclusion took effect this frame
 };
 
 class AnnexSession {
@@ -89,6 +91,17 @@ class AnnexSession {
   const HapticSpec& spec() const { return spec_; }
   const std::vector<AnnexedObject>& objects() const { return objects_; }
 
+  // The user forbids a prop (a hot mug, a fragile glass, someone's phone). From the
+  // next frame it is released if annexed and never voted on again while it is in view:
+  // it is still tracked under its id, so the scans recognise it, until it is lost for
+  // release_after_frames. An id not given to any prop yet excludes the next scanned
+  // prop given that id (ids of the first scan are those `scan` prints for the view).
+  void exclude(std::string physical_id);
+  // Scan on the next frame instead of waiting for scan_every.
+  void rescan() { rescan_ = true; }
+  // Excluded ids still in view, then those waiting for a scan to give them.
+  std::vector<std::string> excluded_ids() const;
+
  private:
   HapticSpec spec_;
   SessionParams params_;
@@ -98,6 +111,16 @@ class AnnexSession {
   std::vector<PhysicalObject> last_scan_objects_;
   int frames_since_scan_ = 0;
   int next_prop_id_ = 1;
+  // Props the user excluded, tracked so that scans recognise them (exclude()).
+  struct ExcludedProp {
+    std::string physical_id;
+    ObjectTrack track;
+  };
+  std::vector<ExcludedProp> excluded_;
+  std::vector<std::string> exclude_requests_;  // applied at the next process()
+  std::vector<std::string> exclude_waiting_;   // ids no prop has had yet
+  bool rescan_ = false;
+  void apply_exclude_requests(FrameReport& report);
 };
 
 }  // namespace annex
