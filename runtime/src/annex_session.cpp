@@ -3,12 +3,14 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
-#include <thread>
+#include <stdexcept>
+
+#include "annex/runtime/params_validation.h"
+#include "session_workers.h"
 
 namespace annex {
 namespace {
@@ -18,29 +20,6 @@ using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
-
-// Runs fn(0..count-1) on up to `threads` threads (the calling thread is not one of them,
-// so it can scan meanwhile); `join` waits for all.
-class TaskGroup {
- public:
-  template <typename Fn>
-  TaskGroup(int count, int threads, Fn fn) {
-    const int n = std::min(count, std::max(1, threads));
-    for (int w = 0; w < n; ++w)
-      workers_.emplace_back([this, count, fn] {
-        for (int i = next_++; i < count; i = next_++) fn(i);
-      });
-  }
-  void join() {
-    for (std::thread& t : workers_) t.join();
-    workers_.clear();
-  }
-  ~TaskGroup() { join(); }
-
- private:
-  std::atomic<int> next_{0};
-  std::vector<std::thread> workers_;
-};
 
 // Which physical dimension each virtual dimension of a box takes: sizes by rank, as
 // fit_to_prop pairs them.
@@ -140,21 +119,57 @@ std::string format_pose_line(int frame_index, const HapticSpec& spec, const Anne
   return line;
 }
 
-AnnexSession::AnnexSession(HapticSpec spec, SessionParams params)
-    : spec_(std::move(spec)), params_(std::move(params)) {}
+struct AnnexSession::Workers {
+  WorkerPool trackers;
+  std::unique_ptr<ScanWorker> scanner;  // ScanMode::background only
+  explicit Workers(const SessionParams& p)
+      : trackers(p.threads),
+        scanner(p.scan_mode == ScanMode::background ? std::make_unique<ScanWorker>(p.scan)
+                                                    : nullptr) {}
+};
 
-FrameReport AnnexSession::process(const Frame& frame) {
+AnnexSession::AnnexSession(HapticSpec spec, SessionParams params)
+    : spec_(std::move(spec)), params_(std::move(params)) {
+  if (Status s = validate_session_params(params_); !s)
+    throw std::invalid_argument(s.error().message);
+  workers_ = std::make_unique<Workers>(params_);
+}
+
+Result<AnnexSession> AnnexSession::create(HapticSpec spec, SessionParams params) {
+  if (Status s = validate_session_params(params); !s) return s.error();
+  return AnnexSession(std::move(spec), std::move(params));
+}
+
+AnnexSession::AnnexSession(AnnexSession&&) noexcept = default;
+AnnexSession& AnnexSession::operator=(AnnexSession&&) noexcept = default;
+AnnexSession::~AnnexSession() = default;
+
+void AnnexSession::wait_for_scan() {
+  if (workers_->scanner) workers_->scanner->wait();
+}
+
+bool AnnexSession::scan_in_flight() const {
+  return workers_->scanner && workers_->scanner->busy();
+}
+
+FrameReport AnnexSession::process(const Frame& frame) { return process(frame, frame.index); }
+
+FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
   const auto t_frame = Clock::now();
   FrameReport report;
-  report.frame_index = frame.index;
+  report.frame_index = frame_index;
   // Recovered from the first frame that allows it (until then cubes are cut by a full scan).
-  if (!camera_ || camera_->width != frame.width || camera_->height != frame.height) {
+  if (params_.camera && params_.camera->width == frame.width &&
+      params_.camera->height == frame.height) {
+    camera_ = params_.camera;
+  } else if (!camera_ || camera_->width != frame.width || camera_->height != frame.height) {
     camera_.reset();
     if (Result<CameraIntrinsics> k = estimate_intrinsics(frame)) camera_ = *k;
   }
 
   // Scan until something is annexed, then every scan_every frames.
-  const bool scan_now = objects_.empty() || ++frames_since_scan_ >= params_.scan_every;
+  const bool scan_due = objects_.empty() || ++frames_since_scan_ >= params_.scan_every;
+  const bool scan_now = scan_due && params_.scan_mode == ScanMode::same_frame;
 
   // Trackers run on the pool while this thread scans.
   TrackingInput input;
@@ -168,14 +183,22 @@ FrameReport AnnexSession::process(const Frame& frame) {
       for (const PhysicalPrimitive& p : o.primitives)
         if (p.kind == objects_[i].track.model->kind) inputs[i].candidates.push_back(p.center);
   const auto t_track = Clock::now();
-  TaskGroup pool(static_cast<int>(objects_.size()), params_.threads, [&](int i) {
-    tracked[i] = track_step(objects_[i].track, inputs[i], params_.tracker);
-  });
+  if (!objects_.empty())
+    workers_->trackers.start(static_cast<int>(objects_.size()), [&](int i) {
+      tracked[i] = track_step(objects_[i].track, inputs[i], params_.tracker);
+    });
+  ScanWorker* background = workers_->scanner.get();
+  const bool start_background = scan_due && background && !background->busy();
+  if (start_background) {
+    background->start(frame, frame_index);
+    frames_since_scan_ = 0;
+  }
   if (scan_now) {
     const auto t0 = Clock::now();
     Result<ScanResult> scan = scan_frame(frame, params_.scan);
     report.times.scan_ms = ms_since(t0);
     report.scanned = true;
+    report.scan_frame_index = frame_index;
     frames_since_scan_ = 0;
     if (scan) {
       report.scan = std::move(scan.value());
@@ -183,8 +206,20 @@ FrameReport AnnexSession::process(const Frame& frame) {
       report.scan_error = scan.error();
     }
   }
-  pool.join();
+  if (!objects_.empty()) workers_->trackers.wait();
   report.times.track_ms = ms_since(t_track);
+  // A background scan that has finished applies now, a frame or more after its frame.
+  if (background && !start_background && background->ready()) {
+    ScanWorker::Done done = background->take();
+    report.scanned = true;
+    report.scan_frame_index = done.frame_index;
+    report.times.scan_ms = done.ms;
+    if (done.result) {
+      report.scan = std::move(done.result.value());
+    } else {
+      report.scan_error = done.result.error();
+    }
+  }
   for (size_t i = 0; i < objects_.size(); ++i) objects_[i].track = std::move(tracked[i]);
 
   // Release props lost for too long: their virtual objects vote again.
@@ -250,7 +285,7 @@ FrameReport AnnexSession::process(const Frame& frame) {
         a.virtual_primitive = e.virtual_primitive;
         a.physical = po.primitives[pp];
         a.vote = m.vote;
-        a.matched_frame = frame.index;
+        a.matched_frame = frame_index;
         a.fit = fit_to_prop(vp, a.physical);
         const Pose pose = object_frame(vp, a.physical, x_axis);
         a.track = start_track(a.physical.kind, scan.clusters[j].points, pose, params_.model_points);
