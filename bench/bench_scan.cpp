@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "annex/reference/object_shape_recognizer_cgal.h"
+#include "annex/reference/scanner_pcl_reference.h"
 #include "annex/runtime/object_shape_recognizer.h"
 #include "annex/runtime/pcd_io.h"
 #include "annex/runtime/scanner.h"

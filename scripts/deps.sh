@@ -13,6 +13,8 @@ ANNEX_PACKAGES=(
   mono-mcs mono-runtime                         # the Unity receiver of docs/streaming.md, run in a test
   xvfb xauth libgl1-mesa-dri                    # headless OpenGL for the editor's tests
   python3 python3-numpy python3-scipy           # independent reference for the assignment tests
+  pybind11-dev python3-dev python3-pytest       # the Python module (bindings/python) and its tests
+  mono-mcs mono-runtime                         # the C# binding (bindings/csharp) and its test
 )
 
 missing=()

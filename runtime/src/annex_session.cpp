@@ -3,13 +3,16 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
 #include <thread>
 #include <utility>
+#include <stdexcept>
+
+#include "annex/runtime/params_validation.h"
+#include "session_workers.h"
 
 namespace annex {
 namespace {
@@ -19,29 +22,6 @@ using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
-
-// Runs fn(0..count-1) on up to `threads` threads (the calling thread is not one of them,
-// so it can scan meanwhile); `join` waits for all.
-class TaskGroup {
- public:
-  template <typename Fn>
-  TaskGroup(int count, int threads, Fn fn) {
-    const int n = std::min(count, std::max(1, threads));
-    for (int w = 0; w < n; ++w)
-      workers_.emplace_back([this, count, fn] {
-        for (int i = next_++; i < count; i = next_++) fn(i);
-      });
-  }
-  void join() {
-    for (std::thread& t : workers_) t.join();
-    workers_.clear();
-  }
-  ~TaskGroup() { join(); }
-
- private:
-  std::atomic<int> next_{0};
-  std::vector<std::thread> workers_;
-};
 
 // Which physical dimension each virtual dimension of a box takes: sizes by rank, as
 // fit_to_prop pairs them.
@@ -141,8 +121,30 @@ std::string format_pose_line(int frame_index, const HapticSpec& spec, const Anne
   return line;
 }
 
+struct AnnexSession::Workers {
+  WorkerPool trackers;
+  std::unique_ptr<ScanWorker> scanner;  // ScanMode::background only
+  explicit Workers(const SessionParams& p)
+      : trackers(p.threads),
+        scanner(p.scan_mode == ScanMode::background ? std::make_unique<ScanWorker>(p.scan)
+                                                    : nullptr) {}
+};
+
 AnnexSession::AnnexSession(HapticSpec spec, SessionParams params)
-    : spec_(std::move(spec)), params_(std::move(params)) {}
+    : spec_(std::move(spec)), params_(std::move(params)) {
+  if (Status s = validate_session_params(params_); !s)
+    throw std::invalid_argument(s.error().message);
+  workers_ = std::make_unique<Workers>(params_);
+}
+
+Result<AnnexSession> AnnexSession::create(HapticSpec spec, SessionParams params) {
+  if (Status s = validate_session_params(params); !s) return s.error();
+  return AnnexSession(std::move(spec), std::move(params));
+}
+
+AnnexSession::AnnexSession(AnnexSession&&) noexcept = default;
+AnnexSession& AnnexSession::operator=(AnnexSession&&) noexcept = default;
+AnnexSession::~AnnexSession() = default;
 
 void AnnexSession::exclude(std::string physical_id) {
   exclude_requests_.push_back(std::move(physical_id));
@@ -177,12 +179,25 @@ void AnnexSession::apply_exclude_requests(FrameReport& report) {
   exclude_requests_.clear();
 }
 
-FrameReport AnnexSession::process(const Frame& frame) {
+void AnnexSession::wait_for_scan() {
+  if (workers_->scanner) workers_->scanner->wait();
+}
+
+bool AnnexSession::scan_in_flight() const {
+  return workers_->scanner && workers_->scanner->busy();
+}
+
+FrameReport AnnexSession::process(const Frame& frame) { return process(frame, frame.index); }
+
+FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
   const auto t_frame = Clock::now();
   FrameReport report;
-  report.frame_index = frame.index;
+  report.frame_index = frame_index;
   // Recovered from the first frame that allows it (until then cubes are cut by a full scan).
-  if (!camera_ || camera_->width != frame.width || camera_->height != frame.height) {
+  if (params_.camera && params_.camera->width == frame.width &&
+      params_.camera->height == frame.height) {
+    camera_ = params_.camera;
+  } else if (!camera_ || camera_->width != frame.width || camera_->height != frame.height) {
     camera_.reset();
     if (Result<CameraIntrinsics> k = estimate_intrinsics(frame)) camera_ = *k;
   }
@@ -190,9 +205,11 @@ FrameReport AnnexSession::process(const Frame& frame) {
   report.timestamp_s = frame.timestamp_s;
   apply_exclude_requests(report);
 
-  // Scan until something is annexed, then every scan_every frames (or when asked).
-  const bool scan_now =
+  // Scan until something is annexed, then every scan_every frames (or when asked); in
+  // background mode the scan runs beside the trackers and applies a frame later.
+  const bool scan_due =
       std::exchange(rescan_, false) || objects_.empty() || ++frames_since_scan_ >= params_.scan_every;
+  const bool scan_now = scan_due && params_.scan_mode == ScanMode::same_frame;
 
   // Trackers run on the pool while this thread scans: the annexed props, then the
   // excluded ones.
@@ -210,14 +227,22 @@ FrameReport AnnexSession::process(const Frame& frame) {
       for (const PhysicalPrimitive& p : o.primitives)
         if (p.kind == tracks[i]->model->kind) inputs[i].candidates.push_back(p.center);
   const auto t_track = Clock::now();
-  TaskGroup pool(static_cast<int>(tracks.size()), params_.threads, [&](int i) {
-    tracked[i] = track_step(*tracks[i], inputs[i], params_.tracker);
-  });
+  if (!tracks.empty())
+    workers_->trackers.start(static_cast<int>(tracks.size()), [&](int i) {
+      tracked[i] = track_step(*tracks[i], inputs[i], params_.tracker);
+    });
+  ScanWorker* background = workers_->scanner.get();
+  const bool start_background = scan_due && background && !background->busy();
+  if (start_background) {
+    background->start(frame, frame_index);
+    frames_since_scan_ = 0;
+  }
   if (scan_now) {
     const auto t0 = Clock::now();
     Result<ScanResult> scan = scan_frame(frame, params_.scan);
     report.times.scan_ms = ms_since(t0);
     report.scanned = true;
+    report.scan_frame_index = frame_index;
     frames_since_scan_ = 0;
     if (scan) {
       report.scan = std::move(scan.value());
@@ -225,8 +250,20 @@ FrameReport AnnexSession::process(const Frame& frame) {
       report.scan_error = scan.error();
     }
   }
-  pool.join();
+  if (!tracks.empty()) workers_->trackers.wait();
   report.times.track_ms = ms_since(t_track);
+  // A background scan that has finished applies now, a frame or more after its frame.
+  if (background && !start_background && background->ready()) {
+    ScanWorker::Done done = background->take();
+    report.scanned = true;
+    report.scan_frame_index = done.frame_index;
+    report.times.scan_ms = done.ms;
+    if (done.result) {
+      report.scan = std::move(done.result.value());
+    } else {
+      report.scan_error = done.result.error();
+    }
+  }
   for (size_t i = 0; i < tracks.size(); ++i) *tracks[i] = std::move(tracked[i]);
   // An excluded prop lost this long has left the view: its exclusion ends.
   std::erase_if(excluded_, [&](const ExcludedProp& e) {
@@ -322,7 +359,7 @@ FrameReport AnnexSession::process(const Frame& frame) {
         a.virtual_primitive = e.virtual_primitive;
         a.physical = po.primitives[pp];
         a.vote = m.vote;
-        a.matched_frame = frame.index;
+        a.matched_frame = frame_index;
         a.fit = fit_to_prop(vp, a.physical);
         const Pose pose = object_frame(vp, a.physical, x_axis);
         a.track = start_track(a.physical.kind, scan.clusters[j].points, pose, params_.model_points);

@@ -2,6 +2,8 @@
 // resting on a plane, seen from a camera at the origin, with seeded depth noise.
 #include "annex/runtime/object_shape_recognizer.h"
 
+#include "annex/reference/object_shape_recognizer_cgal.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -4,8 +4,10 @@
 // `scan_every` frames, where only virtual objects without a prop vote, new props are
 // picked up and a prop lost for `release_after_frames` is released so its virtual
 // object votes again. Each matched object has its own PoseTracker; the trackers of one
-// frame run concurrently on a small pool of threads. docs/tracking.md.
+// frame run concurrently on the session's pool of threads, created once with the
+// session. docs/tracking.md; docs/embedding.md for render loops.
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +21,13 @@
 
 namespace annex {
 
+// How a scan joins the frames. same_frame: the frame's scan runs on the calling thread
+// while the trackers run, and what it finds shows in that frame's report (offline runs,
+// tests). background: the scan runs on the session's scan worker on a copy of the frame
+// and process() returns as soon as tracking is done; the result applies at the first
+// frame after the scan finished, so a frame never waits for a scan (render loops).
+enum class ScanMode { same_frame, background };
+
 struct SessionParams {
   ScanParams scan;
   MatchParams match;
@@ -28,6 +37,10 @@ struct SessionParams {
   int threads = 2;                // trackers running at once
   double same_prop_m = 0.06;      // a scanned object this close to a tracked one is that prop
   int model_points = 600;         // source model size per object
+  ScanMode scan_mode = ScanMode::same_frame;
+  // The depth camera's intrinsics when known; otherwise they are estimated from the
+  // first organized frame (until then a tracker's target cube is cut by a full scan).
+  std::optional<CameraIntrinsics> camera;
 };
 
 // A virtual object annexed to a prop and the state of its tracking.
@@ -68,7 +81,8 @@ struct FrameTimes {
 
 struct FrameReport {
   int frame_index = 0;
-  bool scanned = false;
+  bool scanned = false;  // a scan's result applied in this report (scan or scan_error)
+  int scan_frame_index = -1;  // the frame that scan was taken from (background: an earlier one)
   std::optional<Error> scan_error;  // the scan of this frame failed (no plane...)
   std::optional<ScanResult> scan;   // when scanned and successful
   // When a match ran this frame (some virtual object voted): the scene it voted on
@@ -84,9 +98,24 @@ struct FrameReport {
 
 class AnnexSession {
  public:
+  // Throws std::invalid_argument when validate_session_params fails; create() returns
+  // that Error instead.
   AnnexSession(HapticSpec spec, SessionParams params);
+  static Result<AnnexSession> create(HapticSpec spec, SessionParams params);
+  AnnexSession(AnnexSession&&) noexcept;
+  AnnexSession& operator=(AnnexSession&&) noexcept;
+  ~AnnexSession();
 
   FrameReport process(const Frame& frame);
+  // The same, numbering the frame `frame_index` in the report and the objects instead of
+  // frame.index (for callers that count their pushes).
+  FrameReport process(const Frame& frame, int frame_index);
+
+  // background: blocks until the scan in flight (if any) has finished, so the next
+  // process() applies it. Offline tools call it for results that do not depend on timing.
+  void wait_for_scan();
+  // background: whether a scan is running or waiting to be applied.
+  bool scan_in_flight() const;
 
   const HapticSpec& spec() const { return spec_; }
   const std::vector<AnnexedObject>& objects() const { return objects_; }
@@ -103,6 +132,8 @@ class AnnexSession {
   std::vector<std::string> excluded_ids() const;
 
  private:
+  struct Workers;  // the tracker pool and the scan worker (annex_session.cpp)
+  std::unique_ptr<Workers> workers_;
   HapticSpec spec_;
   SessionParams params_;
   std::vector<AnnexedObject> objects_;

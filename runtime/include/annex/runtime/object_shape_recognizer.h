@@ -67,22 +67,6 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
 // (sphere, cylinder, cone and torus by their bounding cylinder about the axis).
 bool within_shape(const ShapeFit& fit, Vec3 p, double margin);
 
-// The paper's method for comparison: CGAL 5.5 Efficient RANSAC (Schnabel et al. 2007)
-// on the same points (jet normals estimated when `normals` is empty), salient primitive
-// = the detected shape with most support. Used by the benchmark (docs/perception.md).
-struct CgalRansacParams {
-  double probability = 0.05;
-  int min_points = 100;
-  double epsilon_m = 0.005;
-  double cluster_epsilon_m = 0.02;
-  double normal_threshold = 0.85;
-  int jet_neighbours = 18;
-  std::uint64_t seed = 1;
-};
-ObjectShape recognize_object_shape_cgal(const std::vector<Vec3>& points,
-                                        const std::vector<Vec3>& normals,
-                                        const CgalRansacParams& params = {});
-
 // Kinect axial noise (Nguyen et al. 2012), metres at depth z metres.
 inline double kinect_sigma_z(double z) { return 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4); }
 

@@ -2,8 +2,9 @@
 // The scanning pipeline of the paper (METHOD.md §2) on one depth frame: dominant
 // near-horizontal plane, its convex hull, the prism of points above it, object
 // clusters, Moving Least Squares smoothing, then ObjectShapeRecognizer per cluster.
-// The fast path works on the organized 640x480 grid; scan_frame_pcl_reference runs
-// the paper's straightforward PCL pipeline for comparison (docs/perception.md).
+// The fast path works on the organized 640x480 grid; scan_frame_pcl_reference
+// (annex/reference/scanner_pcl_reference.h, bench and tests only) runs the paper's
+// straightforward PCL pipeline for comparison (docs/perception.md).
 
 #include <cstdint>
 #include <filesystem>
@@ -101,21 +102,6 @@ struct ScanResult {
 
 // Errors: an empty or all-invalid frame, or no near-horizontal plane in it.
 Result<ScanResult> scan_frame(const Frame& frame, const ScanParams& params = {});
-
-// The paper's pipeline with PCL's stock filters (5 mm voxel grid, SAC plane, convex
-// hull, polygonal prism, Euclidean clusters, MLS, SAC sphere/cylinder/cone fits with
-// most inliers winning). Slow; kept for the benchmark and as a cross-check.
-struct PclReferenceParams {
-  double voxel_m = 0.005;
-  double plane_distance_m = 0.01;
-  double cluster_tolerance_m = 0.02;
-  int min_cluster_points = 100;
-  double mls_radius_m = 0.03;
-  double shape_distance_m = 0.01;
-  int shape_iterations = 1000;
-};
-Result<ScanResult> scan_frame_pcl_reference(const Frame& frame,
-                                            const PclReferenceParams& params = {});
 
 // Left-to-right order of objects and their ids p1, p2, ...: by the image column of the
 // cluster's centroid (ties by row), so repeated scans of one frame agree.

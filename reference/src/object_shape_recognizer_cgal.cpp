@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "annex/runtime/object_shape_recognizer.h"
+#include "annex/reference/object_shape_recognizer_cgal.h"
 
 namespace annex {
 namespace {

@@ -22,7 +22,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "annex/runtime/scanner.h"
+#include "annex/reference/scanner_pcl_reference.h"
 
 namespace annex {
 namespace {

@@ -1,0 +1,182 @@
+// The C# binding under Mono, as the test suite runs it (test_csharp):
+//   mono AnnexTest.exe SOURCE_DIR SHARED_DIR
+// loads libannex_c (LD_LIBRARY_PATH), checks the ABI, reads specs (and a bad one's
+// line:column), scans a real Kinect frame (skipped when SHARED_DIR/data/real is absent)
+// and a bundled frame, then runs a session over samples/recordings/tabletop.
+// Exits 0 when every check passed, 1 otherwise.
+using System;
+using System.Collections.Generic;
+using System.IO;
+using System.Linq;
+using Annex;
+
+static class AnnexTest
+{
+    static int failures = 0;
+
+    static void Check(bool ok, string what)
+    {
+        Console.WriteLine((ok ? "ok   " : "FAIL ") + what);
+        if (!ok) ++failures;
+    }
+
+    static int Main(string[] args)
+    {
+        if (args.Length != 2)
+        {
+            Console.Error.WriteLine("usage: AnnexTest.exe SOURCE_DIR SHARED_DIR");
+            return 2;
+        }
+        string source = args[0], shared = args[1];
+        try
+        {
+            Run(source, shared);
+        }
+        catch (Exception e)
+        {
+            Console.WriteLine("FAIL unexpected " + e.GetType().Name + ": " + e.Message);
+            return 1;
+        }
+        Console.WriteLine(failures == 0 ? "all checks passed" : failures + " checks failed");
+        return failures == 0 ? 0 : 1;
+    }
+
+    static void Run(string source, string shared)
+    {
+        Library.CheckAbi();
+        Check(Library.Version == Environment.GetEnvironmentVariable("ANNEX_EXPECTED_VERSION"),
+              "version " + Library.Version);
+
+        // Specs.
+        using (Spec study = Spec.Load(Path.Combine(source, "samples/specs/study.haptic")))
+            Check(study.Names.Contains("champagne_bottle") && study.Names.Length == 7,
+                  "study.haptic: " + string.Join(", ", study.Names));
+        try
+        {
+            Spec.Parse("annex-haptic 1\nobject cup\n  primitive body cylinder\n    priority heavy\n  end\nend\n", "cup.haptic");
+            Check(false, "a bad spec throws");
+        }
+        catch (AnnexException e)
+        {
+            Check(e.Status == Status.ParseError && e.Origin == "cup.haptic" && e.Line == 4 && e.Column > 0 &&
+                  e.Message.StartsWith("cup.haptic:4:"), "bad spec: " + e.Message);
+        }
+        try
+        {
+            Spec.Load("/no/such/spec.haptic");
+            Check(false, "a missing spec throws");
+        }
+        catch (AnnexException e)
+        {
+            Check(e.Status == Status.IoError, "missing spec: " + e.Message);
+        }
+
+        // Scans: a real Kinect frame (the milk carton, bleach and detergent bottles) and
+        // the first recorded frame.
+        using (Scanner scanner = Scanner.Create())
+        {
+            string real = Path.Combine(shared, "data/real/milk_cartoon_all_small_clorox.pcd");
+            if (File.Exists(real))
+            {
+                using (Frame frame = Frame.LoadPcd(real))
+                {
+                    List<PhysicalObject> objects = scanner.Scan(frame);
+                    Check(frame.Width == 640 && frame.Height == 480, "real frame is 640x480");
+                    Check(objects.Count >= 3 && objects.Any(o => o.Shape == "box") &&
+                          objects.Count(o => o.Shape == "cylinder") >= 2,
+                          "real frame: " + string.Join(", ", objects.Select(o => o.Id + " " + o.Shape)));
+                }
+            }
+            else
+            {
+                Console.WriteLine("skip real Kinect frame: " + real + " not found (../shared is not checked out)");
+            }
+            using (Frame frame = Frame.LoadPcd(Path.Combine(source, "samples/recordings/tabletop/frame_0000.pcd")))
+            {
+                List<PhysicalObject> objects = scanner.Scan(frame);
+                var shapes = objects.Select(o => o.Shape).OrderBy(s => s).ToArray();
+                Check(shapes.SequenceEqual(new[] { "cylinder", "sphere", "torus" }),
+                      "recorded frame: " + string.Join(", ", shapes));
+                PhysicalObject sphere = objects.FirstOrDefault(o => o.Shape == "sphere");
+                Check(sphere != null && Math.Abs(sphere.Primitives[0].Dimensions["radius"] - 0.052) < 0.006,
+                      "sphere radius about 5.2 cm");
+                using (Spec study = Spec.Load(Path.Combine(source, "samples/specs/study.haptic")))
+                {
+                    var matches = scanner.Match(study, frame).Where(m => m.Physical != null)
+                                         .ToDictionary(m => m.Virtual, m => m.Physical);
+                    var shapeOf = objects.ToDictionary(o => o.Id, o => o.Shape);
+                    Check(matches.Count == 3 && shapeOf[matches["champagne_bottle"]] == "cylinder" &&
+                          shapeOf[matches["lamp"]] == "sphere" && shapeOf[matches["mug"]] == "torus",
+                          "matches: " + string.Join(", ", matches.Select(kv => kv.Key + "->" + kv.Value)));
+                }
+            }
+            // A zero-pixel frame is refused with a message, not a crash.
+            try
+            {
+                Frame.FromPoints(new float[0], 0, 0);
+                Check(false, "an empty frame throws");
+            }
+            catch (AnnexException e)
+            {
+                Check(e.Status == Status.InvalidArgument, "empty frame: " + e.Message);
+            }
+        }
+
+        // Parameters are checked when the session is made.
+        using (Spec study = Spec.Load(Path.Combine(source, "samples/specs/study.haptic")))
+        {
+            SessionParams bad = SessionParams.Defaults();
+            bad.Scan.MaxHeightM = -1;
+            try
+            {
+                Session.Create(study, bad);
+                Check(false, "a negative max height throws");
+            }
+            catch (AnnexException e)
+            {
+                Check(e.Status == Status.InvalidArgument && e.Message.Contains("SessionParams.scan.max_height_m"),
+                      "bad params: " + e.Message);
+            }
+        }
+
+        // A background session over the bundled recording, as a render loop drives it.
+        string[] files = Directory.GetFiles(Path.Combine(source, "samples/recordings/tabletop"), "frame_*.pcd")
+                                  .OrderBy(f => f).ToArray();
+        Check(files.Length == 12, "12 recorded frames");
+        var annexed = new Dictionary<string, string>();
+        int firstTracked = -1;
+        using (Spec study = Spec.Load(Path.Combine(source, "samples/specs/study.haptic")))
+        using (Session session = Session.Create(study))
+        {
+            for (int k = 0; k < files.Length; ++k)
+            {
+                using (Frame frame = Frame.LoadPcd(files[k]))
+                    session.Push(frame);
+                FrameInfo info = session.Info;
+                if (info.ScanApplied != 0 && info.ScanFrame >= k) Check(false, "a scan applied in its own push");
+                foreach (AnnexEvent e in session.Events())
+                    if (e.Kind == EventKind.Annexed) annexed[e.Virtual] = e.Physical;
+                List<AnnexedObject> objects = session.Objects();
+                if (objects.Count > 0 && firstTracked < 0) firstTracked = k;
+                foreach (AnnexedObject o in objects)
+                {
+                    Pose s = o.SensorPose, u = o.UnityPose;
+                    double qn = Math.Sqrt(s.Rotation.X * s.Rotation.X + s.Rotation.Y * s.Rotation.Y +
+                                          s.Rotation.Z * s.Rotation.Z + s.Rotation.W * s.Rotation.W);
+                    bool sane = Math.Abs(qn - 1) < 1e-9 && s.Position.Z > 0.3 && s.Position.Z < 3 &&
+                                u.Position.Y == -s.Position.Y && u.Position.X == s.Position.X &&
+                                u.Rotation.W == s.Rotation.W && u.Rotation.Y == s.Rotation.Y &&
+                                u.Rotation.X == -s.Rotation.X && o.Confidence >= 0 && o.Confidence <= 1 &&
+                                (o.State == TrackingState.Tracking || o.State == TrackingState.Reinit);
+                    if (!sane) Check(false, "frame " + k + " " + o.Virtual + " at " + s.Position + " state " + o.State);
+                }
+            }
+            List<AnnexedObject> last = session.Objects();
+            Check(firstTracked >= 1, "annexed from push " + firstTracked + " (a scan applies a push later)");
+            Check(last.Count == 3 && annexed.Count == 3 &&
+                  new[] { "champagne_bottle", "lamp", "mug" }.All(n => annexed.ContainsKey(n)),
+                  "session annexed: " + string.Join(", ", annexed.Select(kv => kv.Key + "->" + kv.Value)));
+            Check(last.All(o => annexed[o.Virtual] == o.Physical), "props kept their ids");
+        }
+    }
+}
