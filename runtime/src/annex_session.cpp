@@ -10,6 +10,8 @@
 #include <numeric>
 #include <thread>
 
+#include "annex/runtime/rigid_motion.h"
+
 namespace annex {
 namespace {
 
@@ -137,6 +139,7 @@ std::string format_pose_line(int frame_index, const HapticSpec& spec, const Anne
   line += " q=" + num(p.rotation.w, 5) + "," + num(p.rotation.x, 5) + "," + num(p.rotation.y, 5) +
           "," + num(p.rotation.z, 5);
   line += " scale=" + num(p.scale.x, 4) + "," + num(p.scale.y, 4) + "," + num(p.scale.z, 4);
+  line += " conf=" + num(o.track.confidence, 2);
   return line;
 }
 
@@ -153,6 +156,22 @@ FrameReport AnnexSession::process(const Frame& frame) {
     if (Result<CameraIntrinsics> k = estimate_intrinsics(frame)) camera_ = *k;
   }
 
+  // The head's motion since the last frame: what is remembered in sensor coordinates
+  // (the support, the last scan's objects) moves with it.
+  if (params_.camera_motion && camera_ && static_scene_) {
+    const CameraMotionResult m =
+        estimate_camera_motion(*static_scene_, frame, *camera_, camera_motion_, params_.camera);
+    report.camera_motion_ok = m.ok;
+    report.camera_motion = m.motion;
+    camera_motion_ = m.motion;
+    if (support_) support_ = transform_plane(*support_, m.motion);
+    for (PhysicalObject& o : last_scan_objects_)
+      for (PhysicalPrimitive& p : o.primitives) {
+        p.center = transform_point(m.motion, p.center);
+        p.axis = rotate(m.motion.rotation, p.axis);
+      }
+  }
+
   // Scan until something is annexed, then every scan_every frames.
   const bool scan_now = objects_.empty() || ++frames_since_scan_ >= params_.scan_every;
 
@@ -161,6 +180,7 @@ FrameReport AnnexSession::process(const Frame& frame) {
   input.frame = &frame;
   input.camera = camera_;
   input.support = support_;
+  input.camera_motion = report.camera_motion;
   std::vector<ObjectTrack> tracked(objects_.size());
   std::vector<TrackingInput> inputs(objects_.size(), input);
   for (size_t i = 0; i < objects_.size(); ++i)
@@ -186,6 +206,10 @@ FrameReport AnnexSession::process(const Frame& frame) {
   pool.join();
   report.times.track_ms = ms_since(t_track);
   for (size_t i = 0; i < objects_.size(); ++i) objects_[i].track = std::move(tracked[i]);
+  // This frame's static scene, for the next frame's camera motion.
+  if (params_.camera_motion && camera_)
+    static_scene_ = std::make_shared<const TrackingModel>(
+        static_scene_model(frame, *camera_, moving_props(tracked, params_.camera), params_.camera));
 
   // Release props lost for too long: their virtual objects vote again.
   std::erase_if(objects_, [&](const AnnexedObject& o) {
@@ -215,6 +239,35 @@ FrameReport AnnexSession::process(const Frame& frame) {
       object_done[a] = true;
       taken[j] = true;
       scene.objects[j].id = objects_[a].physical_id;
+    }
+    // A lost prop seen again elsewhere: re-anchored on the nearest free scanned object of
+    // its shape (the InitialAligner decides), keeping its physical id.
+    TrackingInput here = input;
+    here.support = scan.plane;
+    here.camera_motion = {};
+    for (size_t a = 0; a < objects_.size(); ++a) {
+      ObjectTrack& t = objects_[a].track;
+      if (object_done[a] || t.state != TrackingState::lost) continue;
+      std::vector<std::pair<double, size_t>> near;
+      for (size_t j = 0; j < scene.objects.size(); ++j) {
+        if (taken[j]) continue;
+        for (const PhysicalPrimitive& p : scene.objects[j].primitives)
+          if (p.kind == t.model->kind && norm(p.center - t.pose.position) <= params_.reanchor_within_m)
+            near.emplace_back(norm(p.center - t.pose.position), j);
+      }
+      std::sort(near.begin(), near.end());
+      for (const auto& [d, j] : near) {
+        const auto prim = std::find_if(
+            scene.objects[j].primitives.begin(), scene.objects[j].primitives.end(),
+            [&](const PhysicalPrimitive& p) { return p.kind == t.model->kind; });
+        const ObjectTrack found = reanchor_track(t, *prim, here, params_.tracker);
+        if (found.state != TrackingState::reinit) continue;
+        t = found;
+        taken[j] = true;
+        scene.objects[j].id = objects_[a].physical_id;
+        report.reanchored.push_back(objects_[a].virtual_name);
+        break;
+      }
     }
     // Fresh, never reused ids for the others, in scan order.
     std::vector<bool> matched(spec_.objects.size(), false);
