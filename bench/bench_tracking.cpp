@@ -13,6 +13,7 @@
 #include "annex/runtime/annex_session.h"
 #include "annex/runtime/pose_tracker.h"
 #include "annex/runtime/synthetic_scene.h"
+#include "motion_test_util.h"
 
 namespace annex {
 namespace {
@@ -67,7 +68,7 @@ void BM_TrackStepPerObject(benchmark::State& state) {
   int k = 1;
   for (auto _ : state) {
     TrackingInput in{
-        &s.frames[static_cast<size_t>(k)].frame, s.camera, s.frames[0].truth.support, {}};
+        &s.frames[static_cast<size_t>(k)].frame, s.camera, s.frames[0].truth.support, {}, {}};
     t = track_step(t, in);
     benchmark::DoNotOptimize(t.pose);
     if (++k == kFrames) {
@@ -218,6 +219,44 @@ void BM_InitialAlignFpfh(benchmark::State& state) {
   state.counters["found"] = benchmark::Counter(found, benchmark::Counter::kAvgIterations);
 }
 BENCHMARK(BM_InitialAlignFpfh)->Iterations(30)->Unit(benchmark::kMillisecond);
+
+// Hand speed (synthetic_motion.h): two props in the hand (a cylinder and a box) moving
+// at Arg 0 mm and turning at Arg 1 degrees per frame, a sphere left on the table, the
+// head turning at Arg 2 degrees per frame; 24 frames, camera motion from the static
+// scene. Counters: median errors of the held props (mm, degrees modulo symmetry), their
+// lost and held frames, the still prop's median error, and the tracking CPU time per
+// object per frame (thread CPU, so other processes on the machine do not count).
+void BM_HandSpeed(benchmark::State& state) {
+  MotionSceneParams p;
+  p.seed = 5;
+  p.held = 2;
+  p.speed_m_per_frame = static_cast<double>(state.range(0)) / 1000;
+  p.spin_deg_per_frame = static_cast<double>(state.range(1));
+  p.camera_yaw_deg_per_frame = static_cast<double>(state.range(2));
+  const MotionScene scene = generate_motion_scene(p).value();
+  const std::vector<SyntheticFrame> frames = test::render_motion(scene, 24);
+  test::MotionRun run;
+  for (auto _ : state) run = test::run_motion(scene, frames);
+  const auto t = run.errors(run.translation_mm, {0, 1}), r = run.errors(run.rotation_deg, {0, 1});
+  state.counters["median_mm"] = test::median(t);
+  state.counters["median_deg"] = test::median(r);
+  state.counters["lost"] = run.frames_in(TrackingState::lost, 0) + run.frames_in(TrackingState::lost, 1);
+  state.counters["held"] = run.frames_in(TrackingState::held, 0) + run.frames_in(TrackingState::held, 1);
+  state.counters["still_mm"] = test::median(run.errors(run.translation_mm, {2}));
+  state.counters["cpu_ms_obj"] = test::median(run.track_cpu_ms);
+  std::vector<double> sorted = run.track_cpu_ms;
+  std::sort(sorted.begin(), sorted.end());
+  state.counters["cpu_ms_p90"] = sorted.empty() ? 0 : sorted[sorted.size() * 9 / 10];
+  state.counters["camera_ms"] = test::median(run.camera_cpu_ms);
+}
+BENCHMARK(BM_HandSpeed)
+    ->Args({2, 1, 0})
+    ->Args({20, 8, 0})
+    ->Args({40, 15, 0})
+    ->Args({60, 20, 0})
+    ->Args({40, 15, 3})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 
 // The runtime loop without rendering: 3 props matched on frame 0, then tracked, a scan
 // every 10 frames. Items per second = frames per second.

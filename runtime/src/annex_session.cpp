@@ -14,6 +14,8 @@
 #include "annex/runtime/params_validation.h"
 #include "session_workers.h"
 
+#include "annex/runtime/rigid_motion.h"
+
 namespace annex {
 namespace {
 
@@ -118,6 +120,7 @@ std::string format_pose_line(int frame_index, const HapticSpec& spec, const Anne
   line += " q=" + num(p.rotation.w, 5) + "," + num(p.rotation.x, 5) + "," + num(p.rotation.y, 5) +
           "," + num(p.rotation.z, 5);
   line += " scale=" + num(p.scale.x, 4) + "," + num(p.scale.y, 4) + "," + num(p.scale.z, 4);
+  line += " conf=" + num(o.track.confidence, 2);
   return line;
 }
 
@@ -205,6 +208,23 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
   report.timestamp_s = frame.timestamp_s;
   apply_exclude_requests(report);
 
+  // The head's motion since the last frame: what is remembered in sensor coordinates
+  // (the support, the last scan's objects) moves with it.
+  if (params_.camera_motion && camera_ && static_scene_) {
+    const CameraMotionResult m =
+        estimate_camera_motion(*static_scene_, frame, *camera_, camera_motion_,
+                               params_.camera_motion_params);
+    report.camera_motion_ok = m.ok;
+    report.camera_motion = m.motion;
+    camera_motion_ = m.motion;
+    if (support_) support_ = transform_plane(*support_, m.motion);
+    for (PhysicalObject& o : last_scan_objects_)
+      for (PhysicalPrimitive& p : o.primitives) {
+        p.center = transform_point(m.motion, p.center);
+        p.axis = rotate(m.motion.rotation, p.axis);
+      }
+  }
+
   // Scan until something is annexed, then every scan_every frames (or when asked); in
   // background mode the scan runs beside the trackers and applies a frame later.
   const bool scan_due =
@@ -220,6 +240,7 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
   input.frame = &frame;
   input.camera = camera_;
   input.support = support_;
+  input.camera_motion = report.camera_motion;
   std::vector<ObjectTrack> tracked(tracks.size());
   std::vector<TrackingInput> inputs(tracks.size(), input);
   for (size_t i = 0; i < tracks.size(); ++i)
@@ -264,6 +285,12 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
       report.scan_error = done.result.error();
     }
   }
+  // This frame's static scene, for the next frame's camera motion (before the tracks
+  // move out of `tracked`).
+  if (params_.camera_motion && camera_)
+    static_scene_ = std::make_shared<const TrackingModel>(static_scene_model(
+        frame, *camera_, moving_props(tracked, params_.camera_motion_params),
+        params_.camera_motion_params));
   for (size_t i = 0; i < tracks.size(); ++i) *tracks[i] = std::move(tracked[i]);
   // An excluded prop lost this long has left the view: its exclusion ends.
   std::erase_if(excluded_, [&](const ExcludedProp& e) {
@@ -308,6 +335,35 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
       object_done[a] = true;
       taken[j] = true;
       scene.objects[j].id = id_of(a);
+    }
+    // A lost prop seen again elsewhere: re-anchored on the nearest free scanned object of
+    // its shape (the InitialAligner decides), keeping its physical id.
+    TrackingInput here = input;
+    here.support = scan.plane;
+    here.camera_motion = {};
+    for (size_t a = 0; a < objects_.size(); ++a) {
+      ObjectTrack& t = objects_[a].track;
+      if (object_done[a] || t.state != TrackingState::lost) continue;
+      std::vector<std::pair<double, size_t>> near;
+      for (size_t j = 0; j < scene.objects.size(); ++j) {
+        if (taken[j]) continue;
+        for (const PhysicalPrimitive& p : scene.objects[j].primitives)
+          if (p.kind == t.model->kind && norm(p.center - t.pose.position) <= params_.reanchor_within_m)
+            near.emplace_back(norm(p.center - t.pose.position), j);
+      }
+      std::sort(near.begin(), near.end());
+      for (const auto& [d, j] : near) {
+        const auto prim = std::find_if(
+            scene.objects[j].primitives.begin(), scene.objects[j].primitives.end(),
+            [&](const PhysicalPrimitive& p) { return p.kind == t.model->kind; });
+        const ObjectTrack found = reanchor_track(t, *prim, here, params_.tracker);
+        if (found.state != TrackingState::reinit) continue;
+        t = found;
+        taken[j] = true;
+        scene.objects[j].id = objects_[a].physical_id;
+        report.reanchored.push_back(objects_[a].virtual_name);
+        break;
+      }
     }
     // Fresh, never reused ids for the others, in scan order.
     std::vector<bool> matched(spec_.objects.size(), false);

@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 
@@ -138,13 +139,64 @@ double rotation_angle_deg(Quat a, Quat b) {
   return 2.0 * std::acos(w) / kDeg;
 }
 
+namespace {
+
+// Which model points take part at a pose: facing the camera (with normals) and, with
+// the depth image, not hidden behind what the camera saw at their pixel.
+class Visibility {
+ public:
+  Visibility(const TrackingModel& model, const IcpParams& params, const DepthView* view)
+      : model_(model), params_(params), view_(view && view->frame && view->frame->organized()
+                                                 ? view
+                                                 : nullptr) {}
+
+  bool facing(size_t i, const Eigen::Matrix3d& rot, const Eigen::Vector3d& p) const {
+    if (model_.normals.size() != model_.points.size()) return true;
+    const Eigen::Vector3d n = rot * ev(model_.normals[i]);
+    return -n.dot(p) >= params_.backface_cos * p.norm();
+  }
+
+  // Something nearer than `margin` in front of p at its pixel.
+  bool hidden(const Eigen::Vector3d& p, double margin) const {
+    const float z = observed(p);
+    return std::isfinite(z) && z < p.z() - margin;
+  }
+  // The camera saw through p: what it saw at p's pixel is farther than `margin` behind.
+  bool in_free_space(const Eigen::Vector3d& p, double margin) const {
+    const float z = observed(p);
+    return std::isfinite(z) && z > p.z() + margin;
+  }
+
+ private:
+  // Depth the camera saw at p's pixel; NaN when unknown.
+  float observed(const Eigen::Vector3d& p) const {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    if (!view_ || p.z() <= 0.05) return nan;
+    const Frame& f = *view_->frame;
+    const CameraIntrinsics& k = view_->camera;
+    const int u = static_cast<int>(std::lround(k.fx * p.x() / p.z() + k.cx));
+    const int v = static_cast<int>(std::lround(k.fy * p.y() / p.z() + k.cy));
+    if (u < 0 || v < 0 || u >= f.width || v >= f.height) return nan;
+    const PointXYZRGB& q = f.points[static_cast<size_t>(v) * f.width + u];
+    return std::isfinite(q.z) && q.z > 0 ? q.z : nan;
+  }
+
+  const TrackingModel& model_;
+  const IcpParams& params_;
+  const DepthView* view_;
+};
+
+}  // namespace
+
 IcpResult track_icp(const TrackingModel& model, const TargetCloud& target, const Pose& initial,
-                    const IcpParams& params) {
+                    const IcpParams& params, const DepthView* view) {
   IcpResult result;
   result.pose = initial;
   if (model.points.empty() || target.points.size() < 10) return result;
   const KdTree tree(target.points);
   const bool have_normals = target.normals.size() == target.points.size();
+  const bool model_normals = model.normals.size() == model.points.size();
+  const Visibility visibility(model, params, view);
 
   Eigen::Matrix3d rot = to_matrix(initial.rotation);
   Eigen::Vector3d t = ev(initial.position);
@@ -185,14 +237,31 @@ IcpResult track_icp(const TrackingModel& model, const TargetCloud& target, const
       h.noalias() += w * row * row.transpose();
       g.noalias() += w * r * row;
     };
-    for (const Vec3& m : model.points) {
-      const Eigen::Vector3d p = rot * ev(m) + t;
+    const double hide_margin = std::max(params.occlusion_margin_m, max_d);
+    for (size_t i = 0; i < model.points.size(); ++i) {
+      const Eigen::Vector3d p = rot * ev(model.points[i]) + t;
+      if (visibility.hidden(p, hide_margin)) continue;
+      // A model point where the camera saw through (past the prop's end, say) is pulled
+      // back onto the nearest data point-to-point, from the full starting distance:
+      // point-to-plane alone lets a partial view slide along its surface.
+      if (visibility.in_free_space(p, params.free_space_margin_m)) {
+        const int j = tree.nearest(vv(p), params.max_correspondence_m);
+        if (j < 0) continue;
+        const Eigen::Vector3d q = ev(target.points[j]);
+        ++pairs;
+        for (int a = 0; a < 3; ++a) add_row(p - t, Eigen::Vector3d::Unit(a), p(a) - q(a));
+        continue;
+      }
       const int j = tree.nearest(vv(p), max_d);
       if (j < 0) continue;
       const Eigen::Vector3d q = ev(target.points[j]);
       const Eigen::Vector3d arm = p - t;
+      const bool target_normal = have_normals && norm(target.normals[j]) > 0.5;
+      if (target_normal && model_normals &&
+          (rot * ev(model.normals[i])).dot(ev(target.normals[j])) < params.normal_cos)
+        continue;
       ++pairs;
-      if (have_normals && norm(target.normals[j]) > 0.5) {
+      if (target_normal) {
         const Eigen::Vector3d nrm = ev(target.normals[j]);
         add_row(arm, nrm, nrm.dot(p - q));
       } else {
@@ -213,11 +282,16 @@ IcpResult track_icp(const TrackingModel& model, const TargetCloud& target, const
     if (moved < params.convergence_m && max_d <= params.final_correspondence_m) break;
   }
 
-  // Fitness and RMS at the final pose.
-  int inliers = 0;
+  // Fitness, coverage and RMS at the final pose.
+  int facing = 0, seen = 0, inliers = 0;
   double sum2 = 0;
-  for (const Vec3& m : model.points) {
-    const Eigen::Vector3d p = rot * ev(m) + t;
+  const double hide_margin = std::max(params.occlusion_margin_m, params.inlier_m);
+  for (size_t i = 0; i < model.points.size(); ++i) {
+    const Eigen::Vector3d p = rot * ev(model.points[i]) + t;
+    if (!visibility.facing(i, rot, p)) continue;
+    ++facing;
+    if (visibility.hidden(p, hide_margin)) continue;
+    ++seen;
     const int j = tree.nearest(vv(p), params.inlier_m);
     if (j < 0) continue;
     ++inliers;
@@ -230,11 +304,16 @@ IcpResult track_icp(const TrackingModel& model, const TargetCloud& target, const
     sum2 += r2;
   }
   result.pose = {vv(t), to_quat(rot)};
-  result.fitness = static_cast<double>(inliers) / static_cast<double>(model.points.size());
+  result.fitness = seen > 0 ? static_cast<double>(inliers) / seen : 0;
+  result.coverage = facing > 0 ? static_cast<double>(seen) / facing : 0;
+  result.confidence = facing > 0 ? static_cast<double>(inliers) / facing : 0;
   result.rms_m = inliers > 0 ? std::sqrt(sum2 / inliers) : 0;
   const double step = norm(result.pose.position - initial.position);
   const double turn = rotation_angle_deg(initial.rotation, result.pose.rotation);
-  result.ok = result.fitness >= params.min_fitness && result.rms_m <= params.max_rms_m &&
+  // Too few points facing the camera (a model turned edge-on) tells nothing either.
+  const bool enough = facing >= std::min<int>(30, static_cast<int>(model.points.size()) / 4 + 1);
+  result.ok = enough && result.fitness >= params.min_fitness &&
+              result.coverage >= params.min_coverage && result.rms_m <= params.max_rms_m &&
               step <= params.max_step_m && turn <= params.max_step_deg;
   return result;
 }

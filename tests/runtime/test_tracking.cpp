@@ -273,7 +273,7 @@ TEST(PoseTracker, RecoversAfterOcclusion) {
     std::vector<bool> hidden(n, false), left_tracking(n, false), recovered(n, false);
     for (int k = 1; k < 45; ++k) {
       const SyntheticFrame f = render_scene(scene, {}, k);
-      const TrackingInput in{&f.frame, *camera, f.truth.support, {}};
+      const TrackingInput in{&f.frame, *camera, f.truth.support, {}, {}};
       for (size_t i = 0; i < n; ++i) {
         tracks[i] = track_step(tracks[i], in);
         const double vis =

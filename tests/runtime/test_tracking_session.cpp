@@ -159,6 +159,56 @@ TEST(AnnexSession, PicksUpNewPropsAndReleasesLostOnes) {
   EXPECT_NE(first_id, second_id);
 }
 
+// A prop hidden while it is carried elsewhere: its track goes held, then lost; the next
+// scan sees it at its new place and re-anchors the track there under the same physical
+// id (its virtual object does not vote again).
+TEST(AnnexSession, ReanchorsALostPropUnderItsId) {
+  const SyntheticScene scene =
+      make_scene(32, {ShapeKind::cylinder, ShapeKind::sphere, ShapeKind::box}, 3);
+  const HapticSpec spec = spec_for(scene);
+  SessionParams params;
+  params.scan_every = 5;
+  AnnexSession session(spec, params);
+  const int carried = 1;
+  // Carried 12 cm away from the others, on the table, while hidden in frames 6 to 9.
+  SyntheticScene moved = scene;
+  SyntheticObject& o = moved.objects[carried];
+  Vec3 away{0, 0, 0};
+  for (size_t i = 0; i < scene.objects.size(); ++i)
+    if (static_cast<int>(i) != carried) away = away + (o.center - scene.objects[i].center);
+  away.z = 0;
+  o.center = o.center + normalized(away) * 0.12;
+  const std::string name = "v" + std::to_string(carried);
+  std::string id;
+  std::optional<int> reanchored_at;
+  for (int k = 0; k < 16; ++k) {
+    SyntheticFrame f = render_scene(k < 8 ? scene : moved, {}, k);
+    if (k >= 6 && k < 10)
+      for (size_t i = 0; i < f.labels.size(); ++i)
+        if (f.labels[i] == carried) f.frame.points[i].z = std::numeric_limits<float>::quiet_NaN();
+    const FrameReport r = session.process(f.frame);
+    const auto it = std::find_if(r.objects.begin(), r.objects.end(),
+                                 [&](const AnnexedObject& a) { return a.virtual_name == name; });
+    ASSERT_NE(it, r.objects.end()) << "frame " << k;
+    if (k == 0) id = it->physical_id;
+    EXPECT_EQ(it->physical_id, id) << "frame " << k;
+    if (k > 0 && r.match)
+      EXPECT_EQ(std::count(r.match->voters.begin(), r.match->voters.end(), carried), 0);
+    if (!reanchored_at &&
+        std::find(r.reanchored.begin(), r.reanchored.end(), name) != r.reanchored.end()) {
+      reanchored_at = k;
+      EXPECT_EQ(it->track.state, TrackingState::reinit);
+    }
+    if (reanchored_at && k > *reanchored_at) {
+      EXPECT_EQ(it->track.state, TrackingState::tracking) << "frame " << k;
+      const Pose truth = test::truth_pose(moved, carried, k);
+      EXPECT_LT(norm(it->track.pose.position - truth.position), 0.01) << "frame " << k;
+    }
+  }
+  ASSERT_TRUE(reanchored_at.has_value());
+  EXPECT_EQ(*reanchored_at, 10);  // the first scan after it reappeared
+}
+
 TEST(ModelPose, FormatsTheFittedModelTransform) {
   HapticSpec spec;
   VirtualObject v;
@@ -185,7 +235,7 @@ TEST(ModelPose, FormatsTheFittedModelTransform) {
   EXPECT_EQ(
       format_pose_line(7, spec, o),
       "frame 7 bottle p3 state=held t=0.1000,-0.2000,1.0000 q=0.70711,0.70711,0.00000,0.00000 "
-      "scale=1.5000,1.5000,0.5000");
+      "scale=1.5000,1.5000,0.5000 conf=1.00");
 }
 
 TEST(RunCommand, WritesPosesAndMatches) {
@@ -208,7 +258,7 @@ TEST(RunCommand, WritesPosesAndMatches) {
   std::ifstream poses(dir / "out" / "poses.txt");
   const std::regex line(
       R"(frame [0-3] v[0-2] p[0-9]+ state=(tracking|held|reinit|lost) t=(-?[0-9]+\.[0-9]+,){2}-?[0-9]+\.[0-9]+ )"
-      R"(q=(-?[0-9]+\.[0-9]+,){3}-?[0-9]+\.[0-9]+ scale=([0-9]+\.[0-9]+,){2}[0-9]+\.[0-9]+)");
+      R"(q=(-?[0-9]+\.[0-9]+,){3}-?[0-9]+\.[0-9]+ scale=([0-9]+\.[0-9]+,){2}[0-9]+\.[0-9]+ conf=[01]\.[0-9]{2})");
   std::string text;
   int lines = 0;
   while (std::getline(poses, text)) {

@@ -15,6 +15,7 @@
 #include "annex/common/haptic_model.h"
 #include "annex/common/object_finder.h"
 #include "annex/common/prop_fit.h"
+#include "annex/runtime/camera_motion.h"
 #include "annex/runtime/frame.h"
 #include "annex/runtime/pose_tracker.h"
 #include "annex/runtime/scanner.h"
@@ -41,6 +42,11 @@ struct SessionParams {
   // The depth camera's intrinsics when known; otherwise they are estimated from the
   // first organized frame (until then a tracker's target cube is cut by a full scan).
   std::optional<CameraIntrinsics> camera;
+  // The head's motion from the static scene, so trackers predict in the room's frame.
+  bool camera_motion = true;
+  CameraMotionParams camera_motion_params;
+  // A lost prop re-anchors on a scanned object of its shape this close to where it was.
+  double reanchor_within_m = 0.6;
 };
 
 // A virtual object annexed to a prop and the state of its tracking.
@@ -53,6 +59,8 @@ struct AnnexedObject {
   double vote = 0;
   int matched_frame = 0;
   PropFit fit;  // scale per primitive axis (clamped)
+  // The tracking state; track.confidence in [0, 1] is how sure this frame's pose is
+  // (docs/tracking.md), for a game to fade an unsure overlay.
   ObjectTrack track;
 };
 
@@ -70,7 +78,7 @@ struct ModelPose {
 };
 ModelPose decompose_model_transform(const Affine& world_from_model);
 
-// `frame <i> <virtual-name> <physical-id> state=<s> t=x,y,z q=w,x,y,z scale=sx,sy,sz`
+// `frame <i> <virtual-name> <physical-id> state=<s> t=x,y,z q=w,x,y,z scale=sx,sy,sz conf=c`
 std::string format_pose_line(int frame_index, const HapticSpec& spec, const AnnexedObject& object);
 
 struct FrameTimes {
@@ -91,6 +99,11 @@ struct FrameReport {
   std::optional<MatchResult> match;
   std::vector<std::string> released;   // virtual names whose props were released
   std::vector<AnnexedObject> objects;  // annexed objects after this frame, spec order
+  // The camera's motion since the previous frame (sensor_now_from_sensor_previous),
+  // estimated from the static scene; identity when it could not be.
+  Pose camera_motion;
+  bool camera_motion_ok = false;
+  std::vector<std::string> reanchored;  // virtual names whose lost props the scan found again
   FrameTimes times;
   double timestamp_s = 0;              // the frame's
   std::vector<std::string> excluded;   // physical ids whose exclusion took effect this frame
@@ -139,7 +152,9 @@ class AnnexSession {
   std::vector<AnnexedObject> objects_;
   std::optional<CameraIntrinsics> camera_;
   std::optional<Plane> support_;
-  std::vector<PhysicalObject> last_scan_objects_;
+  std::vector<PhysicalObject> last_scan_objects_;  // in the current sensor frame
+  std::shared_ptr<const TrackingModel> static_scene_;  // the previous frame's
+  Pose camera_motion_;  // the last estimate: the next one's prediction
   int frames_since_scan_ = 0;
   int next_prop_id_ = 1;
   // Props the user excluded, tracked so that scans recognise them (exclude()).

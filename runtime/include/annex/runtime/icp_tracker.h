@@ -10,6 +10,7 @@
 
 #include "annex/common/geometry.h"
 #include "annex/common/shape.h"
+#include "annex/runtime/frame.h"
 #include "annex/runtime/target_volume_segmenter.h"
 
 namespace annex {
@@ -28,8 +29,9 @@ Symmetry symmetry_of(ShapeKind kind);
 struct TrackingModel {
   ShapeKind kind = ShapeKind::box;
   Symmetry symmetry = Symmetry::none;
-  std::vector<Vec3> points;  // subsampled source cloud, object frame
-  double radius_m = 0.1;     // largest distance of a model point from the origin
+  std::vector<Vec3> points;   // subsampled source cloud, object frame
+  std::vector<Vec3> normals;  // per point, outward (object frame); empty: unknown
+  double radius_m = 0.1;      // largest distance of a model point from the origin
 };
 
 struct IcpParams {
@@ -42,18 +44,40 @@ struct IcpParams {
   double max_rms_m = 0.007;     // RMS over inliers, else failure
   double max_step_m = 0.05;     // a larger jump from the initial pose is a failure
   double max_step_deg = 30;
+  // Visibility (models with normals): a model point whose normal faces away from the
+  // camera by more than this cosine cannot be seen and takes no part.
+  double backface_cos = 0.05;
+  // With the depth image: a model point behind what the camera saw at its pixel by more
+  // than this (or the current correspondence distance, if larger) is hidden by
+  // something in front, a hand say, and takes no part either (docs/tracking.md).
+  double occlusion_margin_m = 0.01;
+  // With the depth image: a model point the camera saw through (the depth at its pixel
+  // this much farther) is pulled point-to-point onto the nearest data point.
+  double free_space_margin_m = 0.015;
+  double normal_cos = 0.5;  // pairs whose normals disagree more than this are rejected
+  double min_coverage = 0.25;  // fewer facing points unhidden: too little seen to tell
+};
+
+// The organized frame a target volume was cut from, for the occlusion test.
+struct DepthView {
+  const Frame* frame = nullptr;
+  CameraIntrinsics camera;
 };
 
 struct IcpResult {
   Pose pose;           // sensor-from-object
   bool ok = false;     // fitness, rms and step within bounds
-  double fitness = 0;  // share of model points with a partner within inlier_m
-  double rms_m = 0;    // RMS point-to-plane distance of those partners
+  // Share of the model points that should be seen (facing the camera, not hidden) with
+  // a partner within inlier_m: what decides acceptance.
+  double fitness = 0;
+  double rms_m = 0;       // RMS point-to-plane distance of those partners
+  double coverage = 1;    // share of the facing model points that are not hidden
+  double confidence = 0;  // fitness x coverage: share of the facing points explained
   int iterations = 0;
 };
 
 IcpResult track_icp(const TrackingModel& model, const TargetCloud& target, const Pose& initial,
-                    const IcpParams& params = {});
+                    const IcpParams& params = {}, const DepthView* view = nullptr);
 
 // Quaternion of a 3x3 rotation matrix given by its columns, and the columns back.
 Quat quat_from_axes(Vec3 x, Vec3 y, Vec3 z);

@@ -1,0 +1,541 @@
+// Hand-speed sequences: props in any orientation, a gripping hand, a moving head.
+// Plain arithmetic like synthetic_scene.cpp, with its own ray caster for posed solids.
+#include "annex/runtime/synthetic_motion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <string>
+#include <utility>
+
+#include "annex/runtime/icp_tracker.h"
+#include "annex/runtime/rigid_motion.h"
+
+namespace annex {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kMinT = 1e-6;
+constexpr double kFrameRateHz = 30.0;
+constexpr Vec3 kUp{0, 0, 1};
+
+double deg_to_rad(double deg) { return deg * std::numbers::pi / 180.0; }
+
+Quat axis_angle(Vec3 axis, double angle_rad) {
+  const Vec3 a = normalized(axis);
+  const double s = std::sin(angle_rad / 2);
+  return {std::cos(angle_rad / 2), a.x * s, a.y * s, a.z * s};
+}
+
+std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t salt) {
+  std::uint64_t z = seed + 0x9e3779b97f4a7c15ULL * (salt + 1);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+double uniform(std::mt19937_64& rng, double lo, double hi) {
+  return std::uniform_real_distribution<double>(lo, hi)(rng);
+}
+
+// The rate profile shared by turns and head motion: +1 for about half of each cycle, -1
+// for the other half, smooth reversals between (a clipped sine).
+double profile(double t, double period) {
+  return std::clamp(1.5 * std::sin(2 * std::numbers::pi * t / period), -1.0, 1.0);
+}
+
+// Sum of the profile over frames 0..k-1 (evaluated mid-frame): how far a motion at unit
+// peak rate has gone by frame k.
+double travelled(int k, double period) {
+  double s = 0;
+  for (int j = 0; j < k; ++j) s += profile(j + 0.5, period);
+  return s;
+}
+
+double center_height(ShapeKind kind, const std::vector<double>& d) {
+  switch (kind) {
+    case ShapeKind::sphere: return d[0];
+    case ShapeKind::cylinder:
+    case ShapeKind::cone: return d[1] * 0.5;
+    case ShapeKind::torus: return d[1];
+    case ShapeKind::box: return d[2] * 0.5;
+  }
+  return 0;
+}
+
+double bounding_radius(ShapeKind kind, const std::vector<double>& d) {
+  switch (kind) {
+    case ShapeKind::sphere: return d[0];
+    case ShapeKind::cylinder:
+    case ShapeKind::cone: return std::hypot(d[0], d[1] * 0.5);
+    case ShapeKind::torus: return d[0] + d[1];
+    case ShapeKind::box: return 0.5 * std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  }
+  return 0;
+}
+
+std::vector<double> prop_dimensions(ShapeKind kind, std::mt19937_64& rng) {
+  switch (kind) {
+    case ShapeKind::sphere: return {uniform(rng, 0.04, 0.07)};
+    case ShapeKind::cylinder: return {uniform(rng, 0.035, 0.05), uniform(rng, 0.12, 0.22)};
+    case ShapeKind::cone: return {uniform(rng, 0.04, 0.07), uniform(rng, 0.10, 0.20)};
+    case ShapeKind::torus: return {uniform(rng, 0.05, 0.07), uniform(rng, 0.015, 0.025)};
+    case ShapeKind::box:
+      return {uniform(rng, 0.07, 0.14), uniform(rng, 0.06, 0.12), uniform(rng, 0.06, 0.14)};
+  }
+  return {};
+}
+
+// ---- ray casting in a solid's local frame (centre at the origin, axis +Z) ----
+
+struct Hit {
+  double t = kInf;
+  Vec3 normal;  // local frame
+};
+
+void consider(Hit& best, double t, Vec3 n) {
+  if (t > kMinT && t < best.t) best = {t, n};
+}
+
+// Roots of a t^2 + 2 b t + c = 0, nearest first, offered to `accept` until it takes one.
+template <typename Accept>
+void quadratic(double a, double b, double c, Accept accept) {
+  if (std::abs(a) < 1e-15) {
+    if (std::abs(b) > 1e-15) accept(-c / (2 * b));
+    return;
+  }
+  const double disc = b * b - a * c;
+  if (disc < 0) return;
+  const double sq = std::sqrt(disc);
+  double t0 = (-b - sq) / a, t1 = (-b + sq) / a;
+  if (t0 > t1) std::swap(t0, t1);
+  if (!accept(t0)) accept(t1);
+}
+
+Hit hit_sphere(Vec3 o, Vec3 d, double r) {
+  Hit h;
+  quadratic(dot(d, d), dot(o, d), dot(o, o) - r * r, [&](double t) {
+    if (t <= kMinT) return false;
+    consider(h, t, normalized(o + d * t));
+    return true;
+  });
+  return h;
+}
+
+Hit hit_cylinder(Vec3 o, Vec3 d, double r, double height) {
+  Hit h;
+  const double hh = height * 0.5;
+  quadratic(d.x * d.x + d.y * d.y, o.x * d.x + o.y * d.y, o.x * o.x + o.y * o.y - r * r,
+            [&](double t) {
+              if (t <= kMinT) return false;
+              const Vec3 p = o + d * t;
+              if (std::abs(p.z) > hh) return false;
+              consider(h, t, normalized(Vec3{p.x, p.y, 0}));
+              return true;
+            });
+  if (std::abs(d.z) > 1e-15)
+    for (double zc : {hh, -hh}) {
+      const double t = (zc - o.z) / d.z;
+      const Vec3 p = o + d * t;
+      if (p.x * p.x + p.y * p.y <= r * r) consider(h, t, {0, 0, zc > 0 ? 1.0 : -1.0});
+    }
+  return h;
+}
+
+// Base (radius r) at z = -height/2, apex at +height/2.
+Hit hit_cone(Vec3 o, Vec3 d, double r, double height) {
+  Hit h;
+  const double hh = height * 0.5;
+  const double k2 = (r / height) * (r / height);
+  const double w0 = hh - o.z;
+  quadratic(d.x * d.x + d.y * d.y - k2 * d.z * d.z, o.x * d.x + o.y * d.y + k2 * w0 * d.z,
+            o.x * o.x + o.y * o.y - k2 * w0 * w0, [&](double t) {
+              if (t <= kMinT) return false;
+              const Vec3 p = o + d * t;
+              const double w = hh - p.z;
+              if (w < 0 || w > height) return false;
+              consider(h, t, normalized(Vec3{p.x, p.y, k2 * w}));
+              return true;
+            });
+  if (std::abs(d.z) > 1e-15) {
+    const double t = (-hh - o.z) / d.z;
+    const Vec3 p = o + d * t;
+    if (p.x * p.x + p.y * p.y <= r * r) consider(h, t, {0, 0, -1});
+  }
+  return h;
+}
+
+// Sphere tracing on the torus's exact distance, from where the ray enters its bound.
+Hit hit_torus(Vec3 o, Vec3 d, double major, double minor) {
+  Hit h;
+  const double len = norm(d);
+  const Vec3 dn = d * (1.0 / len);
+  const double bound = major + minor + 1e-4;
+  const double b = dot(o, dn), c = dot(o, o) - bound * bound;
+  const double disc = b * b - c;
+  if (disc < 0) return h;
+  const double s_exit = -b + std::sqrt(disc);
+  double s = std::max(0.0, -b - std::sqrt(disc));
+  for (int i = 0; i < 512 && s <= s_exit; ++i) {
+    const Vec3 p = o + dn * s;
+    const double q = std::hypot(p.x, p.y) - major;
+    const double f = std::hypot(q, p.z) - minor;
+    if (f < 1e-7) {
+      const double rho = std::max(1e-12, std::hypot(p.x, p.y));
+      consider(h, s / len, normalized(Vec3{q * p.x / rho, q * p.y / rho, p.z}));
+      return h;
+    }
+    s += f;
+  }
+  return h;
+}
+
+Hit hit_box(Vec3 o, Vec3 d, Vec3 half) {
+  Hit h;
+  double t_near = -kInf, t_far = kInf;
+  int axis = -1;
+  double sign = 0;
+  const double oo[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z}, hh[3] = {half.x, half.y, half.z};
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(dd[i]) < 1e-15) {
+      if (std::abs(oo[i]) > hh[i]) return h;
+      continue;
+    }
+    double t0 = (-hh[i] - oo[i]) / dd[i], t1 = (hh[i] - oo[i]) / dd[i];
+    double s = -1;
+    if (t0 > t1) std::swap(t0, t1), s = 1;
+    if (t0 > t_near) t_near = t0, axis = i, sign = s;
+    t_far = std::min(t_far, t1);
+    if (t_near > t_far) return h;
+  }
+  if (axis < 0 || t_near <= kMinT) return h;
+  Vec3 n{0, 0, 0};
+  (axis == 0 ? n.x : axis == 1 ? n.y : n.z) = sign;
+  h = {t_near, n};
+  return h;
+}
+
+Hit hit_local(ShapeKind kind, const std::vector<double>& dim, Vec3 o, Vec3 d) {
+  switch (kind) {
+    case ShapeKind::sphere: return hit_sphere(o, d, dim[0]);
+    case ShapeKind::cylinder: return hit_cylinder(o, d, dim[0], dim[1]);
+    case ShapeKind::cone: return hit_cone(o, d, dim[0], dim[1]);
+    case ShapeKind::torus: return hit_torus(o, d, dim[0], dim[1]);
+    case ShapeKind::box: return hit_box(o, d, {dim[0] * 0.5, dim[1] * 0.5, dim[2] * 0.5});
+  }
+  return {};
+}
+
+// A ray (room frame) against a posed solid; the normal comes back in the room frame.
+Hit hit_solid(const MotionSolid& s, Vec3 origin, Vec3 dir) {
+  const Quat inv = conjugate(s.pose.rotation);
+  Hit h = hit_local(s.kind, s.dimensions_m, rotate(inv, origin - s.pose.position), rotate(inv, dir));
+  h.normal = rotate(s.pose.rotation, h.normal);
+  return h;
+}
+
+// The hand gripping a prop, in the prop's frame: three fingers across the side facing
+// the camera (touching it), a palm against its side and the start of a forearm.
+std::vector<MotionSolid> make_hand(const MotionProp& prop, Vec3 camera_position) {
+  std::vector<MotionSolid> hand;
+  const Vec3 to_camera = rotate(conjugate(prop.rest.rotation), camera_position - prop.rest.position);
+  Vec3 front{to_camera.x, to_camera.y, 0};
+  if (norm(front) < 1e-6) front = {0, -1, 0};
+  front = normalized(front);
+  const Vec3 side = cross(kUp, front);
+  // Extent of the prop along a local direction at height z: a ray cast from outside.
+  auto extent = [&](Vec3 dir, double z) {
+    const Vec3 start = dir * 1.0 + Vec3{0, 0, z};
+    const Hit h = hit_local(prop.kind, prop.dimensions_m, start, dir * -1.0);
+    return h.t < kInf ? 1.0 - h.t : -1.0;
+  };
+  const double finger = 0.018;
+  const double half_h = center_height(prop.kind, prop.dimensions_m);
+  const double spacing = std::min(0.022, 0.35 * half_h);
+  const Quat finger_axes = quat_from_axes(side, front, kUp);
+  for (int k = -1; k <= 1; ++k) {
+    const double z = k * spacing;
+    const double e = extent(front, z);
+    if (e <= 0) continue;
+    hand.push_back({ShapeKind::box, {0.08, finger, finger},
+                    {front * (e + finger * 0.5 + 0.001) + Vec3{0, 0, z}, finger_axes}});
+  }
+  const double e_side = std::max(0.0, extent(side * -1.0, 0));
+  const Vec3 palm_center = side * -(e_side + 0.016) + front * 0.01;
+  hand.push_back({ShapeKind::box, {0.03, 0.08, 0.09}, {palm_center, finger_axes}});
+  hand.push_back({ShapeKind::box, {0.14, 0.055, 0.055},
+                  {palm_center + side * -0.085 + Vec3{0, 0, -0.01}, finger_axes}});
+  return hand;
+}
+
+// Image rectangle a sphere (camera frame) can cover; the whole image when it reaches
+// behind the camera.
+struct Rect {
+  double u0 = 0, v0 = 0, u1 = -1, v1 = -1;
+  bool contains(int u, int v) const { return u >= u0 && u <= u1 && v >= v0 && v <= v1; }
+};
+
+Rect project_sphere(const CameraIntrinsics& k, Vec3 c, double r, double grow) {
+  Rect out{kInf, kInf, -kInf, -kInf};
+  for (int i = 0; i < 8; ++i) {
+    const Vec3 p{c.x + (i & 1 ? r : -r), c.y + (i & 2 ? r : -r), c.z + (i & 4 ? r : -r)};
+    if (p.z < 0.05) return {-1e9, -1e9, 1e9, 1e9};
+    const double u = k.fx * p.x / p.z + k.cx, v = k.fy * p.y / p.z + k.cy;
+    out.u0 = std::min(out.u0, u), out.u1 = std::max(out.u1, u);
+    out.v0 = std::min(out.v0, v), out.v1 = std::max(out.v1, v);
+  }
+  return {out.u0 - grow, out.v0 - grow, out.u1 + grow, out.v1 + grow};
+}
+
+std::array<std::uint8_t, 3> shade(std::array<std::uint8_t, 3> c, double cos_incidence) {
+  const double f = 0.35 + 0.65 * cos_incidence;
+  return {static_cast<std::uint8_t>(c[0] * f), static_cast<std::uint8_t>(c[1] * f),
+          static_cast<std::uint8_t>(c[2] * f)};
+}
+
+constexpr std::array<std::array<std::uint8_t, 3>, 5> kPalette{
+    {{220, 50, 47}, {38, 139, 210}, {133, 153, 0}, {181, 137, 0}, {108, 113, 196}}};
+
+}  // namespace
+
+Result<MotionScene> generate_motion_scene(const MotionSceneParams& params) {
+  if (params.kinds.empty() || params.kinds.size() > 5)
+    return Error{"a motion scene holds 1 to 5 props", {}};
+  if (params.held < 0 || params.held > static_cast<int>(params.kinds.size()))
+    return Error{"held props must be between 0 and the number of props", {}};
+  if (!(params.speed_m_per_frame >= 0 && params.speed_m_per_frame <= 0.1) ||
+      !(std::abs(params.spin_deg_per_frame) <= 45) ||
+      !(std::abs(params.camera_yaw_deg_per_frame) <= 10) || norm(params.camera_velocity_m_per_frame) > 0.05)
+    return Error{"motion rates out of range (at most 0.1 m and 45 degrees per frame for props, "
+                 "0.05 m and 10 degrees per frame for the head)",
+                 {}};
+  if (!(params.path_radius_m > 0.02) || !(params.spin_period_frames >= 4) ||
+      !(params.camera_period_frames >= 4))
+    return Error{"path radius or motion periods too small", {}};
+  std::mt19937_64 rng(params.seed);
+  MotionScene s;
+  s.params = params;
+  s.camera = params.camera;
+  s.table_half_x_m = uniform(rng, 0.6, 0.8);
+  s.table_half_y_m = uniform(rng, 0.4, 0.5);
+  s.floor_depth_m = uniform(rng, 0.72, 0.78);
+  s.wall_y_m = s.table_half_y_m + uniform(rng, 0.3, 0.8);
+  const double tilt = deg_to_rad(uniform(rng, 35, 50));
+  const double distance = uniform(rng, 0.8, 1.0);
+  const Vec3 cx{1, 0, 0}, cy{0, -std::sin(tilt), -std::cos(tilt)},
+      cz{0, std::cos(tilt), -std::sin(tilt)};
+  // Aimed a little above the table, where the held props travel.
+  const Vec3 aim{0, 0, 0.08};
+  s.camera_rest = {aim - cz * distance, quat_from_axes(cx, cy, cz)};
+
+  const size_t n = params.kinds.size();
+  for (size_t i = 0; i < n; ++i) {
+    MotionProp p;
+    p.kind = params.kinds[i];
+    p.dimensions_m = prop_dimensions(p.kind, rng);
+    p.color = kPalette[i % kPalette.size()];
+    // Held props first, at the ends of the row (they leave sideways), still ones between.
+    const double slot = i == 0 ? 0.0 : i == 1 ? static_cast<double>(n - 1) : static_cast<double>(i - 1);
+    const double x = n > 1 ? (slot - 0.5 * static_cast<double>(n - 1)) * 0.25 + uniform(rng, -0.02, 0.02)
+                           : 0.0;
+    const double y = uniform(rng, -0.05, 0.05);
+    p.rest = {{x, y, center_height(p.kind, p.dimensions_m)},
+              axis_angle(kUp, deg_to_rad(uniform(rng, 0, 360)))};
+    p.held = static_cast<int>(i) < params.held;
+    // The loop leaves sideways, away from the other props (the middle one backwards),
+    // rising and coming towards the camera.
+    Vec3 toward{s.camera_rest.position.x - x, s.camera_rest.position.y - y, 0};
+    toward = normalized(toward);
+    p.path_up = normalized(kUp * 0.85 + toward * 0.5);
+    // Horizontal (so the loop never dips below the table), away from the middle.
+    const Vec3 across = normalized(cross(p.path_up, kUp));
+    p.path_forward = across.x * (x < 0 ? -1.0 : 1.0) >= 0 ? across : across * -1.0;
+    const double phi = uniform(rng, 0, 2 * std::numbers::pi);
+    p.spin_axis = normalized(Vec3{std::cos(phi), std::sin(phi), 0.35});
+    s.props.push_back(std::move(p));
+  }
+  if (params.hand && !s.props.empty() && s.props[0].held)
+    s.hand = make_hand(s.props[0], s.camera_rest.position);
+  return s;
+}
+
+Pose motion_camera_pose(const MotionScene& s, int frame) {
+  const double k = travelled(std::max(0, frame), s.params.camera_period_frames);
+  const Quat yaw = axis_angle(kUp, deg_to_rad(s.params.camera_yaw_deg_per_frame * k));
+  return {s.camera_rest.position + s.params.camera_velocity_m_per_frame * k,
+          normalized(yaw * s.camera_rest.rotation)};
+}
+
+Pose motion_prop_pose(const MotionScene& s, int prop, int frame) {
+  const MotionProp& p = s.props.at(static_cast<size_t>(prop));
+  const int k = std::max(0, frame - s.params.still_frames);
+  if (!p.held || k == 0) return p.rest;
+  // The chord of one frame's arc is the speed.
+  const double r = s.params.path_radius_m;
+  const double step = 2 * std::asin(std::min(1.0, s.params.speed_m_per_frame / (2 * r)));
+  // The hand picks the prop up: the speed grows over the first ramp frames.
+  const int ramp = std::max(0, s.params.ramp_frames);
+  const double frames_moved =
+      k <= ramp ? 0.5 * k * (k + 1) / (ramp + 1.0) : 0.5 * ramp + (k - ramp) * 1.0;
+  const double theta = step * frames_moved;
+  const Vec3 c = p.rest.position + p.path_forward * (r * std::sin(theta)) +
+                 p.path_up * (r * (1 - std::cos(theta)));
+  const double angle =
+      deg_to_rad(s.params.spin_deg_per_frame * travelled(k, s.params.spin_period_frames));
+  return {c, normalized(p.rest.rotation * axis_angle(p.spin_axis, angle))};
+}
+
+Pose motion_prop_in_camera(const MotionScene& s, int prop, int frame) {
+  return compose(inverse(motion_camera_pose(s, frame)), motion_prop_pose(s, prop, frame));
+}
+
+std::vector<MotionSolid> motion_hand(const MotionScene& s, int frame) {
+  std::vector<MotionSolid> out;
+  if (s.hand.empty()) return out;
+  const Pose prop = motion_prop_pose(s, 0, frame);
+  for (const MotionSolid& part : s.hand) out.push_back({part.kind, part.dimensions_m, compose(prop, part.pose)});
+  return out;
+}
+
+SyntheticFrame render_motion_frame(const MotionScene& s, int frame, const SensorNoiseParams& noise) {
+  const CameraIntrinsics& cam = s.camera;
+  const Pose camera = motion_camera_pose(s, frame);
+  const Pose camera_from_room = inverse(camera);
+  const int w = cam.width, h = cam.height;
+  const size_t n = static_cast<size_t>(w) * h;
+  std::mt19937_64 rng(mix_seed(s.params.seed, static_cast<std::uint64_t>(frame)));
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double jitter = noise.enabled ? noise.lateral_sigma_px : 0.0;
+
+  // Every solid of the frame with its image rectangle; label per solid.
+  std::vector<MotionSolid> solids;
+  std::vector<int> labels;
+  for (size_t i = 0; i < s.props.size(); ++i) {
+    solids.push_back({s.props[i].kind, s.props[i].dimensions_m,
+                      motion_prop_pose(s, static_cast<int>(i), frame)});
+    labels.push_back(static_cast<int>(i));
+  }
+  for (MotionSolid& part : motion_hand(s, frame)) {
+    solids.push_back(std::move(part));
+    labels.push_back(kLabelOccluder);
+  }
+  std::vector<Rect> rects;
+  for (const MotionSolid& so : solids) {
+    const Vec3 c = compose(camera_from_room, so.pose).position;
+    rects.push_back(project_sphere(cam, c, bounding_radius(so.kind, so.dimensions_m), 2 + 5 * jitter));
+  }
+  const MotionSolid table{ShapeKind::box,
+                          {2 * s.table_half_x_m, 2 * s.table_half_y_m, s.table_thickness_m},
+                          {{0, 0, -s.table_thickness_m * 0.5}, {}}};
+
+  struct PixelHit {
+    double depth = kInf, cos_incidence = 1, ray_x = 0, ray_y = 0;
+    int label = kLabelNothing;
+  };
+  std::vector<PixelHit> hits(n);
+  const Vec3 o = camera.position;
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const double uj = u + (jitter > 0 ? jitter * gauss(rng) : 0.0);
+      const double vj = v + (jitter > 0 ? jitter * gauss(rng) : 0.0);
+      PixelHit& px = hits[static_cast<size_t>(v) * w + u];
+      px.ray_x = (uj - cam.cx) / cam.fx;
+      px.ray_y = (vj - cam.cy) / cam.fy;
+      // Unit camera z: the ray parameter is the depth.
+      const Vec3 dir = rotate(camera.rotation, {px.ray_x, px.ray_y, 1});
+      Hit best;
+      int label = kLabelNothing;
+      auto take = [&](const Hit& hit, int l) {
+        if (hit.t < best.t) best = hit, label = l;
+      };
+      take(hit_solid(table, o, dir), kLabelTable);
+      if (dir.z < 0) take({(-s.floor_depth_m - o.z) / dir.z, {0, 0, 1}}, kLabelFloor);
+      if (dir.y > 0) take({(s.wall_y_m - o.y) / dir.y, {0, -1, 0}}, kLabelWall);
+      for (size_t i = 0; i < solids.size(); ++i)
+        if (rects[i].contains(u, v)) take(hit_solid(solids[i], o, dir), labels[i]);
+      if (label == kLabelNothing || !(best.t > kMinT) || best.t == kInf) continue;
+      px.depth = best.t;
+      px.label = label;
+      px.cos_incidence = std::abs(dot(best.normal, normalized(dir)));
+    }
+  }
+
+  SyntheticFrame out;
+  out.frame.width = w;
+  out.frame.height = h;
+  out.frame.index = frame;
+  out.frame.timestamp_s = frame / kFrameRateHz;
+  out.frame.points.resize(n);
+  out.labels.resize(n);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  auto depth_at = [&](int u, int v) {
+    return u < 0 || v < 0 || u >= w || v >= h ? kInf : hits[static_cast<size_t>(v) * w + u].depth;
+  };
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const size_t i = static_cast<size_t>(v) * w + u;
+      const PixelHit& px = hits[i];
+      PointXYZRGB& p = out.frame.points[i];
+      out.labels[i] = px.label;
+      p.x = p.y = p.z = nan;
+      if (px.label == kLabelNothing) continue;
+      std::array<std::uint8_t, 3> colour{90, 90, 100};
+      if (px.label >= 0) colour = s.props[static_cast<size_t>(px.label)].color;
+      if (px.label == kLabelTable) colour = {165, 120, 80};
+      if (px.label == kLabelWall) colour = {205, 200, 185};
+      if (px.label == kLabelOccluder) colour = {205, 155, 125};
+      colour = shade(colour, px.cos_incidence);
+      p.r = colour[0], p.g = colour[1], p.b = colour[2];
+      const double z = px.depth;
+      if (z < noise.min_range_m || z > noise.max_range_m) continue;
+      double depth = z;
+      if (noise.enabled) {
+        double keep = 1 - noise.dropout;
+        if (px.cos_incidence < noise.grazing_cos) keep *= px.cos_incidence / noise.grazing_cos;
+        bool edge = false;
+        for (const auto& [du, dv] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}})
+          if (std::abs(depth_at(u + du, v + dv) - z) > noise.edge_jump_m) edge = true;
+        if (edge) keep *= 1 - noise.edge_dropout;
+        const double draw = unit(rng);
+        const double e = gauss(rng);
+        if (draw >= keep) continue;
+        depth = z + kinect_axial_sigma_m(z) * e;
+      }
+      p.x = static_cast<float>(px.ray_x * depth);
+      p.y = static_cast<float>(px.ray_y * depth);
+      p.z = static_cast<float>(depth);
+    }
+  }
+
+  // Truth in the camera frame.
+  Plane table_plane;
+  table_plane.normal = rotate(camera_from_room.rotation, kUp);
+  table_plane.d = -dot(table_plane.normal, compose(camera_from_room, Pose{}).position);
+  out.truth.support = table_plane;
+  std::vector<int> counts(s.props.size(), 0);
+  for (size_t i = 0; i < n; ++i)
+    if (out.labels[i] >= 0 && std::isfinite(out.frame.points[i].z))
+      ++counts[static_cast<size_t>(out.labels[i])];
+  for (size_t i = 0; i < s.props.size(); ++i) {
+    const Pose pc = motion_prop_in_camera(s, static_cast<int>(i), frame);
+    PhysicalPrimitive prim;
+    prim.kind = s.props[i].kind;
+    prim.dimensions_m = s.props[i].dimensions_m;
+    prim.center = pc.position;
+    prim.axis = pc.axis();
+    prim.fit = 1.0;
+    PhysicalObject obj;
+    obj.id = "o";
+    obj.id += std::to_string(i + 1);
+    obj.primitives.push_back(prim);
+    obj.point_count = counts[i];
+    obj.fit = 1.0;
+    out.truth.objects.push_back(std::move(obj));
+  }
+  return out;
+}
+
+}  // namespace annex
