@@ -49,7 +49,7 @@ Result<PhysicalScene> load_scene(const std::string& path, const std::optional<st
 }
 
 int run_match(const std::vector<std::string>& args) {
-  const auto parsed = parse_args("match", args, {{"explain"}, {"min-vote", "max-vote", "config"}});
+  const auto parsed = parse_args("match", args, {{"explain", "within-limits"}, {"min-vote", "max-vote", "config"}});
   if (!parsed) return kExitBadInput;
   if (parsed->positional.size() != 2) {
     std::cerr << "annex-runtime match: error: expected SPEC.haptic and SCENE.scene or CLOUD.pcd"
@@ -62,6 +62,7 @@ int run_match(const std::vector<std::string>& args) {
     if (!x) return kExitBadInput;
     params.min_vote = *x;
   }
+  params.within_limits = parsed->has("within-limits");
   if (auto v = parsed->get("max-vote")) {
     const auto x = parse_non_negative("max-vote", *v);
     if (!x) return kExitBadInput;
@@ -90,7 +91,8 @@ int run_match(const std::vector<std::string>& args) {
 const Command kMatchCommand{
     "match", "vote and match a spec against a scene (the match simulator)",
     "usage: annex-runtime match SPEC.haptic (SCENE.scene | CLOUD.pcd) [--explain]\n"
-    "                           [--min-vote X] [--max-vote C] [--config SCAN.conf]\n"
+    "                           [--min-vote X] [--within-limits] [--max-vote C]\n"
+    "                           [--config SCAN.conf]\n"
     "\n"
     "With a depth frame (.pcd) the scanner runs first (see 'scan --help') and its\n"
     "objects p1, p2, ... are the physical objects.\n"
@@ -101,7 +103,10 @@ const Command kMatchCommand{
     "  virtual-only <virtual-name>\n"
     "\n"
     "  --explain      print the vote table and each pair's breakdown first\n"
-    "  --min-vote X   never match a pair voting X or less (default 0)\n"
+    "  --min-vote X   never match a pair voting X or less (default 0); a spec's\n"
+    "                 per-object 'min_vote V' also never matches a pair voting under V\n"
+    "  --within-limits never match a prop that needs a dimension scaled beyond the\n"
+    "                 primitive's scaling limits\n"
     "  --max-vote C   the constant C, the highest possible vote (default 100)\n"
     "  --config FILE  scan parameters for a .pcd (default: Kinect, samples/config/scan.conf)\n"
     "\n"
