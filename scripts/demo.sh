@@ -6,7 +6,8 @@ cd "$(dirname "$0")/.."
 bash scripts/deps.sh
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DANNEX_BUILD_TESTS=OFF \
   -DANNEX_BUILD_BENCH=OFF >/dev/null
-cmake --build build/release --target annex-runtime annex-author -j"$(nproc)"
+cmake --build build/release --target annex-runtime annex-author annex-make-models \
+  annex-make-recording -j"$(nproc)"
 rt=build/release/runtime/annex-runtime
 out=out/demo
 mkdir -p "$out"

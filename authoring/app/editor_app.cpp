@@ -1,6 +1,7 @@
 #include "editor_app.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #define GL_GLEXT_PROTOTYPES
 #include <GL/glcorearb.h>
 
+#include "annex/formats/text_lexer.h"
 #include "annex/authoring/fit.h"
 #include "annex/formats/file_io.h"
 #include "annex/formats/scene_format.h"
@@ -45,6 +47,10 @@ std::string find_samples_dir() {
   if (const char* env = std::getenv("ANNEX_SAMPLES_DIR"); env != nullptr && *env != '\0')
     return env;
   std::error_code ec;
+  // The checkout the editor was started in comes before the source tree compiled in,
+  // which may be another checkout (or gone): the dialogs open where the user works.
+  if (fs::is_directory("samples/models", ec))
+    return fs::absolute("samples", ec).lexically_normal().string();
 #ifdef ANNEX_SAMPLES_DIR
   if (fs::is_directory(ANNEX_SAMPLES_DIR, ec)) return ANNEX_SAMPLES_DIR;
 #endif
@@ -208,13 +214,17 @@ void EditorApp::open_document(const std::string& path, bool recover, Renderer& r
   auto opened = path.empty() && recover ? EditorDocument::recover_untitled()
                                         : EditorDocument::open(path, recover);
   if (!opened) {
-    ui_.status = opened.error().format();
-    if (scripted()) fail_script(ui_.status);
+    // Nothing opens: the document stays as it was and a modal shows the whole error.
+    ui_.status = "Not opened: " + opened.error().format();
+    ui_.prompts.open_error = opened.error().format();
+    ui_.prompts.open_error_requested = true;
+    if (scripted()) fail_script(opened.error().format());
     return;
   }
   doc_ = std::move(opened).value();
   renderer.clear_meshes();
   ui_.box_points.clear();
+  ui_.box_normals.clear();
   ui_.box_object = -1;
   ui_.preview_dirty = true;
   if (!path.empty()) add_recent(path);
@@ -386,6 +396,8 @@ bool EditorApp::run_view_command(const ScriptLine& line) {
     ui_.camera.distance_m = static_cast<float>(dist);
   } else if (verb == "frame_all") {
     frame_all(doc_, ui_);
+  } else if (verb == "frame_selected") {
+    frame_selected(doc_, ui_);
   } else if (verb == "limits_preview" || verb == "rank_mode" || verb == "wireframes" ||
              verb == "grid") {
     bool* flag = verb == "limits_preview" ? &ui_.limits_preview
@@ -417,16 +429,28 @@ bool EditorApp::run_view_command(const ScriptLine& line) {
     if (ui_.box_object != s.object || ui_.box_points.empty())
       return fail("fit_selection needs a box selection on this object (box_select)"), true;
     Primitive prim = doc_.spec().objects[s.object].primitives[s.primitive];
-    if (w.size() == 2) {
-      const auto k = shape_from_name(w[1]);
-      if (!k) return fail("unknown shape '" + w[1] + "'"), true;
+    // fit_selection [KIND] [snap up|principal]
+    std::size_t next = 1;
+    if (w.size() > next && w[next] != "snap") {
+      const auto k = shape_from_name(w[next]);
+      if (!k) return fail("unknown shape '" + w[next] + "'"), true;
       if (*k != prim.kind) {
         Primitive q = make_primitive(*k, prim.name);
         q.weight = prim.weight;
         prim = q;
       }
+      ++next;
     }
-    auto fit = fit_primitive(ui_.box_points, prim.kind);
+    AxisSnap snap = AxisSnap::none;
+    if (w.size() > next) {
+      if (w[next] != "snap" || w.size() != next + 2 || (w[next + 1] != "up" && w[next + 1] != "principal"))
+        return fail("fit_selection takes [KIND] [snap up|principal]"), true;
+      snap = w[next + 1] == "up" ? AxisSnap::object_up : AxisSnap::mesh_principal;
+    }
+    FitOptions options;
+    if (const MeshData* mesh = doc_.mesh_for(s.object)) options.axis = snap_axis(snap, *mesh);
+    options.normals = ui_.box_normals;
+    auto fit = fit_primitive(ui_.box_points, prim.kind, options);
     if (!fit) return fail(fit.error().message), true;
     if (Status st = doc_.apply(cmd::ReplacePrimitive{s.object, s.primitive, with_fit(prim, *fit)});
         !st)
@@ -436,9 +460,12 @@ bool EditorApp::run_view_command(const ScriptLine& line) {
     if (!ui_.scene) return fail("no scene loaded for the match preview (scene FILE)"), true;
     const MatchPreview mp = preview_match(doc_.spec(), *ui_.scene);
     if (verb == "print_match") {
-      for (const ObjectPreview& o : mp.objects)
+      for (const ObjectPreview& o : mp.objects) {
+        char vote[32];
+        std::snprintf(vote, sizeof vote, "%.2f", o.assigned_vote);  // as annex-runtime prints
         std::cout << "match " << o.name << " -> " << (o.assigned ? o.assigned_id : "virtual-only")
-                  << " vote " << o.assigned_vote << "\n";
+                  << " vote " << vote << "\n";
+      }
     } else {
       if (w.size() != 3) return fail("usage: expect_match OBJECT PROP|none"), true;
       for (const ObjectPreview& o : mp.objects) {
@@ -512,8 +539,18 @@ void EditorApp::before_frame(Renderer& renderer) {
       break;
     }
     if (!r->handled) {
+      // The spec reader's did-you-mean, over every command a script may use.
+      static constexpr std::string_view kCommands[] = {
+          "new", "open", "recover", "import", "add_object", "select", "add", "remove",
+          "duplicate", "set", "rank", "fit", "undo", "redo", "save", "autosave", "validate",
+          "print", "screenshot", "frames", "bench", "scene", "print_match", "expect_match",
+          "camera", "frame_all", "frame_selected", "limits_preview", "rank_mode",
+          "wireframes", "grid", "gizmo", "box_select", "fit_selection", "runtime_preview",
+          "quit"};
+      std::string hint = detail::suggestion(verb, kCommands);
+      if (!hint.starts_with("; did you mean")) hint = " (docs/editor.md lists them)";
       fail_script(options_.script_path + ":" + std::to_string(line.line) +
-                  ": error: unknown command '" + verb + "' (docs/editor.md lists them)");
+                  ": error: unknown command '" + verb + "'" + hint);
       break;
     }
     std::cout << r->output;

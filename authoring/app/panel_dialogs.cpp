@@ -134,12 +134,35 @@ void draw_recover_prompt(UiState& ui, CommandQueue& queue) {
   ImGui::EndPopup();
 }
 
+// A spec that does not parse: its file:line:column error in red, in full.
+void draw_open_error(UiState& ui) {
+  Prompts& p = ui.prompts;
+  if (p.open_error_requested) {
+    ImGui::OpenPopup("Could not open the spec");
+    p.open_error_requested = false;
+  }
+  ImGui::SetNextWindowSizeConstraints(ImVec2(360, 0), ImVec2(760, 600));
+  if (!ImGui::BeginPopupModal("Could not open the spec", nullptr,
+                              ImGuiWindowFlags_AlwaysAutoResize))
+    return;
+  ImGui::PushTextWrapPos(ImGui::GetFontSize() * 45);
+  ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1), "%s", p.open_error.c_str());
+  ImGui::PopTextWrapPos();
+  ImGui::TextDisabled("Nothing was opened; fix the file and open it again.");
+  if (ImGui::Button("OK", ImVec2(120, 0))) {
+    p.open_error.clear();
+    ImGui::CloseCurrentPopup();
+  }
+  ImGui::EndPopup();
+}
+
 }  // namespace
 
 void draw_dialogs(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
   draw_file_dialog(ui, queue);
   draw_unsaved_prompt(doc, ui, queue);
   draw_recover_prompt(ui, queue);
+  draw_open_error(ui);
 }
 
 }  // namespace annex::authoring

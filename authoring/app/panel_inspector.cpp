@@ -53,9 +53,13 @@ void draw_object(const EditorDocument& doc, CommandQueue& queue, int o) {
 
 void draw_add_buttons(CommandQueue& queue, int o) {
   ImGui::TextUnformatted("Add primitive:");
+  // The buttons wrap onto a new line rather than run past a narrow panel's edge.
+  const ImGuiStyle& style = ImGui::GetStyle();
   for (ShapeKind k : kAllShapes) {
-    ImGui::SameLine();
     const std::string label(shape_name(k));
+    const float w = ImGui::CalcTextSize(label.c_str()).x + 2 * style.FramePadding.x;
+    const float right = ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x;
+    if (ImGui::GetItemRectMax().x + style.ItemSpacing.x + w <= right) ImGui::SameLine();
     if (ImGui::SmallButton(label.c_str())) queue.push(cmd::AddPrimitive{o, k, std::nullopt, ""});
   }
 }
@@ -76,13 +80,22 @@ void draw_fit(const EditorDocument& doc, UiState& ui, CommandQueue& queue, int o
   const char* names[] = {"sphere", "cylinder", "cone", "torus", "box"};
   ImGui::SetNextItemWidth(120);
   if (ImGui::Combo("shape##fit", &kind, names, 5)) ui.fit_kind = static_cast<ShapeKind>(kind);
-  auto fit_to = [&](const std::vector<Vec3>& pts) {
+  ImGui::SameLine();
+  int snap = static_cast<int>(ui.fit_snap);
+  const char* snaps[] = {"axis from the points", "axis: object up (+Y)",
+                         "axis: mesh's principal axis"};
+  ImGui::SetNextItemWidth(-1);
+  if (ImGui::Combo("##snap", &snap, snaps, 3)) ui.fit_snap = static_cast<AxisSnap>(snap);
+  auto fit_to = [&](const std::vector<Vec3>& pts, const std::vector<Vec3>& normals) {
     Primitive base = prim;
     if (base.kind != ui.fit_kind) {
       base = make_primitive(ui.fit_kind, prim.name);
       base.weight = prim.weight;
     }
-    auto fit = fit_primitive(pts, ui.fit_kind);
+    FitOptions options;
+    options.axis = snap_axis(ui.fit_snap, *mesh);
+    options.normals = normals;
+    auto fit = fit_primitive(pts, ui.fit_kind, options);
     if (!fit) {
       ui.status = fit.error().message;
       return;
@@ -90,15 +103,15 @@ void draw_fit(const EditorDocument& doc, UiState& ui, CommandQueue& queue, int o
     queue.push(cmd::ReplacePrimitive{o, p, with_fit(base, *fit)});
     queue.push(cmd::EndEdit{});
   };
-  if (ImGui::Button("Fit to whole mesh")) fit_to(mesh_points(*mesh));
+  if (ImGui::Button("Fit to whole mesh")) fit_to(mesh_points(*mesh), {});
   ImGui::SameLine();
   const bool have_box = ui.box_object == o && !ui.box_points.empty();
   ImGui::BeginDisabled(!have_box);
   const std::string box_label =
-      "Fit to box selection (" + std::to_string(have_box ? ui.box_points.size() : 0) + " vertices)";
-  if (ImGui::Button(box_label.c_str())) fit_to(ui.box_points);
+      "Fit to box selection (" + std::to_string(have_box ? ui.box_points.size() : 0) + " points)";
+  if (ImGui::Button(box_label.c_str())) fit_to(ui.box_points, ui.box_normals);
   ImGui::EndDisabled();
-  ImGui::TextDisabled("Ctrl + drag in the viewport selects vertices.");
+  ImGui::TextDisabled("Ctrl + drag in the viewport selects the surface you see.");
 }
 
 void draw_primitive(const EditorDocument& doc, UiState& ui, CommandQueue& queue, int o, int p) {
@@ -170,7 +183,8 @@ void draw_inspector(const EditorDocument& doc, UiState& ui, CommandQueue& queue)
   place_next_window(ui.layout.inspector);
   if (!ImGui::Begin(
           "Inspector", nullptr,
-          ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse)) {
+          ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+              ImGuiWindowFlags_HorizontalScrollbar)) {
     ImGui::End();
     return;
   }
@@ -191,7 +205,17 @@ void draw_inspector(const EditorDocument& doc, UiState& ui, CommandQueue& queue)
   ImGui::Separator();
   // The same check and words as `annex-runtime check`.
   const Status valid = doc.validate();
-  if (valid) {
+  bool any_annexable = false;
+  for (const VirtualObject& o : doc.spec().objects) any_annexable |= o.annexable;
+  if (valid && doc.spec().objects.empty()) {
+    ImGui::TextWrapped("Empty spec: import a mesh (File > Import Mesh..., Ctrl+I) or open a "
+                       "spec (Ctrl+O).");
+  } else if (valid && !any_annexable) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.8f, 0.3f, 1));
+    ImGui::TextWrapped("Valid, but no object is annexable: annex-runtime run would match no "
+                       "prop (the same warning as annex-runtime check).");
+    ImGui::PopStyleColor();
+  } else if (valid) {
     ImGui::TextColored(ImVec4(0.45f, 0.85f, 0.45f, 1),
                        "Valid: annex-runtime check accepts this spec.");
   } else {

@@ -10,7 +10,8 @@ void draw_limits(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
   place_next_window(ui.layout.limits);
   if (!ImGui::Begin(
           "Scaling limits", nullptr,
-          ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse)) {
+          ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+              ImGuiWindowFlags_HorizontalScrollbar)) {
     ImGui::End();
     return;
   }
@@ -27,8 +28,8 @@ void draw_limits(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
   ImGui::Text("%s (%s)", prim.name.c_str(), std::string(shape_name(prim.kind)).c_str());
   const auto names = dimension_names(prim.kind);
   if (ImGui::BeginTable("limits", 4, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerH)) {
-    ImGui::TableSetupColumn("dimension", ImGuiTableColumnFlags_WidthFixed, 95);
-    ImGui::TableSetupColumn("min x .. max x", ImGuiTableColumnFlags_WidthStretch);
+    ImGui::TableSetupColumn("dimension", ImGuiTableColumnFlags_WidthFixed, 90);
+    ImGui::TableSetupColumn("min .. max", ImGuiTableColumnFlags_WidthStretch);
     ImGui::TableSetupColumn("smallest", ImGuiTableColumnFlags_WidthFixed, 62);
     ImGui::TableSetupColumn("largest", ImGuiTableColumnFlags_WidthFixed, 62);
     ImGui::TableHeadersRow();
@@ -57,7 +58,9 @@ void draw_limits(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
     }
     ImGui::EndTable();
   }
-  ImGui::TextDisabled("Size on the model vs. the range a prop may have.");
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+  ImGui::TextWrapped("Smallest and largest: the sizes the model may be drawn at on a prop.");
+  ImGui::PopStyleColor();
   ImGui::End();
 }
 

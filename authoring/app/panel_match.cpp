@@ -34,7 +34,8 @@ void draw_match_preview(const EditorDocument& doc, UiState& ui, CommandQueue& qu
   place_next_window(ui.layout.match);
   if (!ImGui::Begin(
           "Match preview", nullptr,
-          ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse)) {
+          ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+              ImGuiWindowFlags_HorizontalScrollbar)) {
     ImGui::End();
     return;
   }
@@ -58,7 +59,7 @@ void draw_match_preview(const EditorDocument& doc, UiState& ui, CommandQueue& qu
     ImGui::TextColored(ImVec4(1, 0.45f, 0.4f, 1), "%s", ui.scene_error.c_str());
   } else if (ui.scene) {
     refresh(doc, ui);
-    ImGui::TextDisabled("%zu physical objects; total vote %.1f (C = 100)", ui.scene->objects.size(),
+    ImGui::TextDisabled("%zu physical objects; total vote %.2f (C = 100)", ui.scene->objects.size(),
                         ui.preview.total_vote);
   }
   if (!ui.scene) {
@@ -68,7 +69,7 @@ void draw_match_preview(const EditorDocument& doc, UiState& ui, CommandQueue& qu
     ImGui::End();
     return;
   }
-  ImGui::BeginChild("preview");
+  ImGui::BeginChild("preview", ImVec2(0, 0), false, ImGuiWindowFlags_HorizontalScrollbar);
   for (const ObjectPreview& o : ui.preview.objects) {
     ImGui::PushID(o.object);
     if (!o.voted) {
@@ -78,12 +79,13 @@ void draw_match_preview(const EditorDocument& doc, UiState& ui, CommandQueue& qu
     }
     char head[256];
     if (o.assigned)
-      std::snprintf(head, sizeof head, "%s  ->  %s   (vote %.1f)", o.name.c_str(),
+      std::snprintf(head, sizeof head, "%s  ->  %s   (vote %.2f)", o.name.c_str(),
                     o.assigned_id.c_str(), o.assigned_vote);
     else
       std::snprintf(head, sizeof head, "%s  ->  stays virtual-only", o.name.c_str());
     const bool selected = doc.selection().object == o.object;
     if (ImGui::TreeNodeEx("obj", selected ? ImGuiTreeNodeFlags_DefaultOpen : 0, "%s", head)) {
+      // The per-dimension breakdown wraps in its column, so nothing is cut.
       if (ImGui::BeginTable("cands", 5, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingFixedFit)) {
         ImGui::TableSetupColumn("#");
         ImGui::TableSetupColumn("prop");
@@ -119,7 +121,7 @@ void draw_match_preview(const EditorDocument& doc, UiState& ui, CommandQueue& qu
           ImGui::Text("%s%s", c.id.c_str(), chosen ? "  (assigned)" : "");
           ImGui::TableNextColumn();
           char vote[32];
-          std::snprintf(vote, sizeof vote, "%.1f", e.vote);
+          std::snprintf(vote, sizeof vote, "%.2f", e.vote);
           ImGui::ProgressBar(static_cast<float>(e.vote / 100.0), ImVec2(100, 0), vote);
           ImGui::TableNextColumn();
           if (e.virtual_primitive >= 0 &&
@@ -129,7 +131,7 @@ void draw_match_preview(const EditorDocument& doc, UiState& ui, CommandQueue& qu
           else
             ImGui::TextDisabled("no shared shape");
           ImGui::TableNextColumn();
-          if (!e.terms.empty()) ImGui::TextUnformatted(terms_text(e).c_str());
+          if (!e.terms.empty()) ImGui::TextWrapped("%s", terms_text(e).c_str());
         }
         ImGui::EndTable();
       }

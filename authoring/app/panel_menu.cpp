@@ -29,9 +29,14 @@ void open_file_dialog(UiState& ui, AppAction::Kind purpose, const EditorDocument
     case AppAction::Kind::open:
       ask_path(ui, purpose, "Open haptic spec", {".haptic"}, here.empty() ? specs : here);
       break;
-    case AppAction::Kind::save_as:
-      ask_path(ui, purpose, "Save haptic spec as", {".haptic"}, here.empty() ? specs : here);
+    case AppAction::Kind::save_as: {
+      // A new spec goes where the editor was started (the user's folder), not into the
+      // bundled samples.
+      std::error_code ec;
+      const std::string cwd = std::filesystem::current_path(ec).string();
+      ask_path(ui, purpose, "Save haptic spec as", {".haptic"}, here.empty() ? cwd : here);
       break;
+    }
     case AppAction::Kind::import_mesh:
       ask_path(ui, purpose, "Import visual mesh",
                {".obj", ".gltf", ".glb", ".fbx", ".ply", ".stl", ".dae"}, models);
@@ -88,6 +93,8 @@ void draw_menu_bar(const EditorDocument& doc, UiState& ui, CommandQueue& queue) 
     ImGui::MenuItem("Primitive wireframes", nullptr, &ui.show_wireframes);
     ImGui::MenuItem("Scaling-limits preview", nullptr, &ui.limits_preview);
     if (ImGui::MenuItem("Frame all", "F")) queue.request(AppAction::Kind::fit_view);
+    if (ImGui::MenuItem("Frame selected", "Shift+F", false, doc.selection().object >= 0))
+      frame_selected(doc, ui);
     ImGui::EndMenu();
   }
   if (ImGui::BeginMenu("Runtime")) {
@@ -117,7 +124,9 @@ void draw_menu_bar(const EditorDocument& doc, UiState& ui, CommandQueue& queue) 
   }
   const Status valid = doc.validate();
   ImGui::SameLine(ImGui::GetWindowWidth() - 330);
-  if (valid)
+  if (valid && doc.spec().objects.empty())
+    ImGui::TextDisabled("empty spec");
+  else if (valid)
     ImGui::TextColored(ImVec4(0.45f, 0.85f, 0.45f, 1), "spec valid");
   else
     ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1), "spec invalid (see Inspector)");

@@ -7,7 +7,8 @@ void draw_outline(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
   place_next_window(ui.layout.outline);
   if (!ImGui::Begin(
           "Scene outline", nullptr,
-          ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse)) {
+          ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+              ImGuiWindowFlags_HorizontalScrollbar)) {
     ImGui::End();
     return;
   }

@@ -75,7 +75,8 @@ void draw_priorities(const EditorDocument& doc, UiState& ui, CommandQueue& queue
   place_next_window(ui.layout.priorities);
   if (!ImGui::Begin(
           "Priorities", nullptr,
-          ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse)) {
+          ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+              ImGuiWindowFlags_HorizontalScrollbar)) {
     ImGui::End();
     return;
   }

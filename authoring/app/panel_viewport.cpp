@@ -104,6 +104,66 @@ void drag_handle(const EditorDocument& doc, UiState& ui, CommandQueue& queue, co
 
 }  // namespace
 
+namespace {
+
+// A vertex of the selected object on screen: pixels, and 1/w (linear across a
+// triangle on screen, so depths interpolate exactly).
+struct ScreenPoint {
+  float x = 0, y = 0, inv_w = 0;
+  bool ok = false;
+};
+
+ScreenPoint to_screen(const glm::mat4& mvp, const Rect& vp, glm::vec3 p) {
+  const glm::vec4 c = mvp * glm::vec4(p, 1.f);
+  ScreenPoint s;
+  if (c.w <= 1e-6f) return s;
+  s.x = vp.x + (c.x / c.w * 0.5f + 0.5f) * vp.w;
+  s.y = vp.y + (1.f - (c.y / c.w * 0.5f + 0.5f)) * vp.h;
+  s.inv_w = 1.f / c.w;
+  s.ok = true;
+  return s;
+}
+
+// The nearest surface of one mesh under each pixel of a screen rectangle, as 1/w
+// (larger is nearer): what the user sees there, so a selection can skip the back.
+struct DepthBuffer {
+  float x0 = 0, y0 = 0, step = 1;
+  int w = 0, h = 0;
+  std::vector<float> inv_w;  // 0: no surface
+
+  float at(float x, float y) const {
+    const int i = static_cast<int>((x - x0) / step), j = static_cast<int>((y - y0) / step);
+    if (i < 0 || j < 0 || i >= w || j >= h) return 0;
+    return inv_w[static_cast<std::size_t>(j) * w + i];
+  }
+
+  void add_triangle(const ScreenPoint& a, const ScreenPoint& b, const ScreenPoint& c) {
+    const float area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+    if (std::abs(area) < 1e-9f) return;
+    const int i0 = std::max(0, static_cast<int>((std::min({a.x, b.x, c.x}) - x0) / step));
+    const int i1 = std::min(w - 1, static_cast<int>((std::max({a.x, b.x, c.x}) - x0) / step));
+    const int j0 = std::max(0, static_cast<int>((std::min({a.y, b.y, c.y}) - y0) / step));
+    const int j1 = std::min(h - 1, static_cast<int>((std::max({a.y, b.y, c.y}) - y0) / step));
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const float px = x0 + (i + 0.5f) * step, py = y0 + (j + 0.5f) * step;
+        const float l1 = ((px - a.x) * (c.y - a.y) - (c.x - a.x) * (py - a.y)) / area;
+        const float l2 = ((b.x - a.x) * (py - a.y) - (px - a.x) * (b.y - a.y)) / area;
+        const float l0 = 1 - l1 - l2;
+        if (l0 < 0 || l1 < 0 || l2 < 0) continue;
+        float& d = inv_w[static_cast<std::size_t>(j) * w + i];
+        d = std::max(d, l0 * a.inv_w + l1 * b.inv_w + l2 * c.inv_w);
+      }
+  }
+};
+
+}  // namespace
+
+// The box selection is the surface the user sees inside the rectangle: triangles
+// facing the camera, sampled evenly by area and kept where no nearer part of the mesh
+// hides them. Taking every vertex whose projection falls inside (as a screen test
+// alone does) adds the bottom disc and the back, whose outline perspective cuts at
+// another height, and tilts and widens the fit.
 void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b) {
   ui.box_start = a;
   ui.box_end = b;
@@ -111,6 +171,7 @@ void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b) {
   const glm::mat4 view_proj = projection_matrix(ui.camera, vp.w / vp.h) * view_matrix(ui.camera);
   const std::vector<Placement> placed = place_objects(doc, ui);
   ui.box_points.clear();
+  ui.box_normals.clear();
   ui.box_object = doc.selection().object;
   const MeshData* mesh = doc.mesh_for(ui.box_object);
   const Placement* pl = nullptr;
@@ -125,14 +186,79 @@ void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b) {
   const float y0 = std::min(ui.box_start.y, ui.box_end.y),
               y1 = std::max(ui.box_start.y, ui.box_end.y);
   const glm::mat4 mvp = view_proj * pl->model;
-  for (std::size_t i = 0; i < mesh->vertex_count(); ++i) {
+  const glm::vec3 eye = glm::vec3(glm::inverse(pl->model) * glm::vec4(camera_position(ui.camera), 1));
+  std::vector<ScreenPoint> screen(mesh->vertex_count());
+  for (std::size_t i = 0; i < screen.size(); ++i) {
     const Vec3 v = mesh->vertex(i);
-    ImVec2 s;
-    if (!project(mvp, ui.layout.viewport, glm::vec3(v.x, v.y, v.z), s)) continue;
-    if (s.x >= x0 && s.x <= x1 && s.y >= y0 && s.y <= y1) ui.box_points.push_back(v);
+    screen[i] = to_screen(mvp, vp, glm::vec3(v.x, v.y, v.z));
   }
-  char buf[96];
-  std::snprintf(buf, sizeof buf, "Box selection: %zu vertices (Inspector > Fit to selection).",
+  // At most 512 depth cells across the rectangle: a pixel's worth for any viewport.
+  DepthBuffer depth;
+  depth.x0 = x0;
+  depth.y0 = y0;
+  depth.step = std::max({1.f, (x1 - x0) / 512.f, (y1 - y0) / 512.f});
+  depth.w = static_cast<int>((x1 - x0) / depth.step) + 1;
+  depth.h = static_cast<int>((y1 - y0) / depth.step) + 1;
+  depth.inv_w.assign(static_cast<std::size_t>(depth.w) * depth.h, 0.f);
+  const std::size_t tris = mesh->triangle_count();
+  for (std::size_t t = 0; t < tris; ++t) {
+    const ScreenPoint& pa = screen[mesh->indices[3 * t]];
+    const ScreenPoint& pb = screen[mesh->indices[3 * t + 1]];
+    const ScreenPoint& pc = screen[mesh->indices[3 * t + 2]];
+    if (pa.ok && pb.ok && pc.ok) depth.add_triangle(pa, pb, pc);
+  }
+  // Samples about one per two pixels of the mesh's size on screen.
+  glm::vec3 lo(mesh->min.x, mesh->min.y, mesh->min.z), hi(mesh->max.x, mesh->max.y, mesh->max.z);
+  const float spacing = std::max(1e-4f, glm::length(hi - lo) / 400.f);
+  float carry = 0;
+  std::uint32_t rng = 12345;
+  auto uniform = [&rng] {
+    rng = rng * 1664525u + 1013904223u;
+    return static_cast<float>(rng >> 8) / 16777216.f;
+  };
+  for (std::size_t t = 0; t < tris; ++t) {
+    const std::uint32_t ia = mesh->indices[3 * t], ib = mesh->indices[3 * t + 1],
+                        ic = mesh->indices[3 * t + 2];
+    const Vec3 va = mesh->vertex(ia), vb = mesh->vertex(ib), vc = mesh->vertex(ic);
+    const glm::vec3 A(va.x, va.y, va.z), B(vb.x, vb.y, vb.z), C(vc.x, vc.y, vc.z);
+    const glm::vec3 n = glm::cross(B - A, C - A);
+    const float len = glm::length(n);
+    if (len <= 0) continue;
+    const glm::vec3 unit = n / len;
+    // Faces turned away from the eye are the back (winding is counter-clockwise seen
+    // from outside; the vertex normals break ties on meshes wound the other way).
+    const glm::vec3 vn(mesh->normals[3 * ia] + mesh->normals[3 * ib] + mesh->normals[3 * ic],
+                       mesh->normals[3 * ia + 1] + mesh->normals[3 * ib + 1] +
+                           mesh->normals[3 * ic + 1],
+                       mesh->normals[3 * ia + 2] + mesh->normals[3 * ib + 2] +
+                           mesh->normals[3 * ic + 2]);
+    const glm::vec3 outward = glm::dot(vn, unit) < 0 ? -unit : unit;
+    if (glm::dot(outward, eye - (A + B + C) / 3.f) <= 0) continue;
+    const ScreenPoint &pa = screen[ia], &pb = screen[ib], &pc = screen[ic];
+    if (!pa.ok || !pb.ok || !pc.ok) continue;
+    if (std::max({pa.x, pb.x, pc.x}) < x0 || std::min({pa.x, pb.x, pc.x}) > x1 ||
+        std::max({pa.y, pb.y, pc.y}) < y0 || std::min({pa.y, pb.y, pc.y}) > y1)
+      continue;
+    carry += 0.5f * len / (spacing * spacing);
+    // Every triangle inside gets at least its centroid, so small ones are not lost.
+    int count = static_cast<int>(carry);
+    carry -= static_cast<float>(count);
+    if (count == 0) count = 1;
+    for (int k = 0; k < count; ++k) {
+      float u = k == 0 ? 1.f / 3 : uniform(), v = k == 0 ? 1.f / 3 : uniform();
+      if (u + v > 1) u = 1 - u, v = 1 - v;
+      const glm::vec3 p = A + (B - A) * u + (C - A) * v;
+      const ScreenPoint s = to_screen(mvp, vp, p);
+      if (!s.ok || s.x < x0 || s.x > x1 || s.y < y0 || s.y > y1) continue;
+      // Hidden when a nearer surface covers it by more than 1 % of its distance.
+      if (s.inv_w < depth.at(s.x, s.y) * 0.99f) continue;
+      ui.box_points.push_back({p.x, p.y, p.z});
+      ui.box_normals.push_back({outward.x, outward.y, outward.z});
+    }
+  }
+  char buf[120];
+  std::snprintf(buf, sizeof buf,
+                "Box selection: %zu points of the visible surface (Inspector > Fit to selection).",
                 ui.box_points.size());
   ui.status = buf;
 }
@@ -157,7 +283,12 @@ void handle_keys(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
   if (io.KeyCtrl && ImGui::IsKeyPressed('N')) queue.request(AppAction::Kind::new_document);
   if (io.KeyCtrl && ImGui::IsKeyPressed('Q')) queue.request(AppAction::Kind::quit);
   if (io.KeyCtrl) return;
-  if (ImGui::IsKeyPressed('F')) queue.request(AppAction::Kind::fit_view);
+  if (ImGui::IsKeyPressed('F')) {
+    if (ImGui::GetIO().KeyShift)
+      frame_selected(doc, ui);
+    else
+      queue.request(AppAction::Kind::fit_view);
+  }
   if (ImGui::IsKeyPressed('W')) ui.gizmo = GizmoMode::move;
   if (ImGui::IsKeyPressed('E')) ui.gizmo = GizmoMode::rotate;
   if (ImGui::IsKeyPressed('R')) ui.gizmo = GizmoMode::size;
@@ -170,7 +301,7 @@ void handle_keys(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
   }
 }
 
-void draw_toolbar(UiState& ui, CommandQueue& queue) {
+void draw_toolbar(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
   ImGui::SetNextWindowPos(ImVec2(ui.layout.viewport.x + 8, ui.layout.viewport.y + 8));
   ImGui::SetNextWindowBgAlpha(0.55f);
   const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
@@ -188,6 +319,10 @@ void draw_toolbar(UiState& ui, CommandQueue& queue) {
     ImGui::SameLine();
     if (ImGui::Button("Frame all (F)")) queue.request(AppAction::Kind::fit_view);
     ImGui::SameLine();
+    ImGui::BeginDisabled(doc.selection().object < 0);
+    if (ImGui::Button("Frame selected")) frame_selected(doc, ui);
+    ImGui::EndDisabled();
+    ImGui::SameLine();
     ImGui::Checkbox("wireframes", &ui.show_wireframes);
     ImGui::SameLine();
     ImGui::Checkbox("limits preview", &ui.limits_preview);
@@ -198,7 +333,7 @@ void draw_toolbar(UiState& ui, CommandQueue& queue) {
 }  // namespace
 
 void draw_viewport(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
-  draw_toolbar(ui, queue);
+  draw_toolbar(doc, ui, queue);
   ImGuiIO& io = ImGui::GetIO();
   const Rect& vp = ui.layout.viewport;
   const glm::mat4 view_proj = projection_matrix(ui.camera, vp.w / vp.h) * view_matrix(ui.camera);
@@ -282,6 +417,9 @@ void draw_viewport(const EditorDocument& doc, UiState& ui, CommandQueue& queue) 
 
   // Overlay: labels, box selection, handles, status.
   dl->PushClipRect(ImVec2(vp.x, vp.y), ImVec2(vp.x + vp.w, vp.y + vp.h), true);
+  // Names under their objects, kept inside the viewport and moved down a line until
+  // they overlap no name already placed (side-by-side objects seen at a slant).
+  std::vector<ImVec4> taken;
   for (const Placement& p : placed) {
     ImVec2 s;
     if (!project(view_proj, vp, glm::vec3(p.model * glm::vec4(0, 0, 0, 1)), s)) continue;
@@ -292,7 +430,19 @@ void draw_viewport(const EditorDocument& doc, UiState& ui, CommandQueue& queue) 
                             ? IM_COL32(255, 210, 120, 255)
                             : (doc.selection().object == p.object ? IM_COL32(255, 230, 90, 255)
                                                                   : IM_COL32(220, 220, 220, 220));
-    dl->AddText(ImVec2(s.x - size.x / 2, s.y + 8), color, text);
+    float x = std::clamp(s.x - size.x / 2, vp.x + 2, std::max(vp.x + 2, vp.x + vp.w - size.x - 2));
+    float y = s.y + 8;
+    for (int tries = 0; tries < 12; ++tries) {
+      bool clear = true;
+      for (const ImVec4& t : taken)
+        clear = clear && (x + size.x <= t.x || t.z <= x || y + size.y <= t.y || t.w <= y);
+      if (clear) break;
+      y += size.y + 1;
+    }
+    y = std::clamp(y, vp.y + 2, std::max(vp.y + 2, vp.y + vp.h - size.y - 2));
+    taken.push_back(ImVec4(x, y, x + size.x, y + size.y));
+    dl->AddRectFilled(ImVec2(x - 2, y), ImVec2(x + size.x + 2, y + size.y), IM_COL32(0, 0, 0, 110));
+    dl->AddText(ImVec2(x, y), color, text);
   }
   if (ui.box_dragging)
     dl->AddRect(ui.box_start, ui.box_end, IM_COL32(255, 220, 60, 255), 0, 0, 1.5f);

@@ -11,6 +11,7 @@
 #include <imgui.h>
 
 #include "annex/authoring/commands.h"
+#include "annex/authoring/fit.h"
 #include "annex/authoring/match_preview.h"
 #include "annex/authoring/recent_files.h"
 #include "annex/common/physical_scene.h"
@@ -64,6 +65,9 @@ struct Prompts {
   bool unsaved_open_requested = false;
   std::optional<std::string> recover;  // spec path with an autosave ("" = untitled)
   bool recover_open_requested = false;
+  // A spec that did not open: its file:line:column error, shown until dismissed.
+  std::string open_error;
+  bool open_error_requested = false;
 };
 
 struct UiState {
@@ -79,7 +83,9 @@ struct UiState {
   bool box_dragging = false;
   ImVec2 box_start, box_end;
   int box_object = -1;
-  std::vector<Vec3> box_points;  // object frame
+  std::vector<Vec3> box_points;   // object frame: samples of the visible surface
+  std::vector<Vec3> box_normals;  // their outward normals
+  AxisSnap fit_snap = AxisSnap::none;  // Fit to selection: the axis chosen or snapped
   ShapeKind fit_kind = ShapeKind::cylinder;
   Selection fit_kind_for;  // fit_kind follows the selected primitive's shape on selection change
 

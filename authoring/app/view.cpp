@@ -184,14 +184,17 @@ bool project(const glm::mat4& view_proj, const Rect& vp, glm::vec3 world, ImVec2
   return true;
 }
 
-void frame_all(const EditorDocument& doc, UiState& ui) {
+namespace {
+
+// Points the camera at the placed copies for which `keep` holds; false when none.
+template <typename Keep>
+bool frame_placements(const EditorDocument& doc, UiState& ui, Keep keep) {
   const std::vector<Placement> placed = place_objects(doc, ui);
-  if (placed.empty()) {
-    ui.camera = Camera{};
-    return;
-  }
   glm::vec3 lo(1e9f), hi(-1e9f);
+  bool any = false;
   for (const Placement& p : placed) {
+    if (!keep(p)) continue;
+    any = true;
     glm::vec3 a, b;
     object_bounds(doc, p.object, a, b);
     for (int k = 0; k < 8; ++k) {
@@ -201,6 +204,7 @@ void frame_all(const EditorDocument& doc, UiState& ui) {
       hi = glm::max(hi, w);
     }
   }
+  if (!any) return false;
   const glm::vec3 c = 0.5f * (lo + hi);
   const float radius = std::max(0.05f, 0.5f * glm::length(hi - lo));
   ui.camera.target[0] = c.x;
@@ -209,6 +213,20 @@ void frame_all(const EditorDocument& doc, UiState& ui) {
   const float aspect = ui.layout.viewport.h > 0 ? ui.layout.viewport.w / ui.layout.viewport.h : 1.6f;
   const float half = glm::radians(ui.camera.fov_deg) * 0.5f * std::min(1.f, aspect);
   ui.camera.distance_m = radius / std::sin(half) * 1.2f;
+  return true;
+}
+
+}  // namespace
+
+void frame_all(const EditorDocument& doc, UiState& ui) {
+  if (!frame_placements(doc, ui, [](const Placement&) { return true; })) ui.camera = Camera{};
+}
+
+void frame_selected(const EditorDocument& doc, UiState& ui) {
+  const int object = doc.selection().object;
+  if (object < 0 ||
+      !frame_placements(doc, ui, [&](const Placement& p) { return p.object == object && !p.ghost; }))
+    frame_all(doc, ui);
 }
 
 }  // namespace annex::authoring

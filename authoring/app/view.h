@@ -53,5 +53,7 @@ int pick_object(const EditorDocument& doc, const UiState& ui, ImVec2 screen);
 
 // Points the camera at the bounds of everything placed.
 void frame_all(const EditorDocument& doc, UiState& ui);
+// Points the camera at the selected object (everything when nothing is selected).
+void frame_selected(const EditorDocument& doc, UiState& ui);
 
 }  // namespace annex::authoring

@@ -70,6 +70,18 @@ std::string EditorDocument::title() const {
          (dirty() ? " *" : "");
 }
 
+// A mesh path as a spec stores it: relative to the spec's folder when the mesh is in
+// that folder's tree or beside it (samples/specs/x.haptic -> ../models/m.obj), so the
+// two move together; absolute when the relative path would climb further out of the
+// user's tree (../../../usr/share/...), which breaks as soon as the spec moves.
+static std::string stored_mesh_path(const fs::path& abs, const fs::path& spec_dir) {
+  const fs::path rel = abs.lexically_relative(spec_dir);
+  int ups = 0;
+  for (const fs::path& part : rel)
+    if (part == "..") ++ups;
+  return rel.empty() || ups > 1 ? abs.generic_string() : rel.generic_string();
+}
+
 fs::path EditorDocument::resolve_mesh_path(const std::string& mesh) const {
   fs::path p(mesh);
   std::error_code ec;
@@ -81,8 +93,7 @@ std::string EditorDocument::mesh_reference(const fs::path& file) const {
   std::error_code ec;
   const fs::path abs = fs::absolute(file, ec).lexically_normal();
   if (path_.empty()) return abs.generic_string();
-  const fs::path rel = abs.lexically_relative(path_.parent_path());
-  return rel.empty() ? abs.generic_string() : rel.generic_string();
+  return stored_mesh_path(abs, path_.parent_path());
 }
 
 const MeshData* EditorDocument::mesh_for(int object) const {
@@ -420,9 +431,7 @@ void rebase_meshes(HapticSpec& spec, const fs::path& from_dir, const fs::path& t
     if (o.mesh.empty()) continue;
     fs::path abs(o.mesh);
     if (abs.is_relative()) abs = from_dir / abs;
-    abs = abs.lexically_normal();
-    const fs::path rel = abs.lexically_relative(to_dir);
-    o.mesh = rel.empty() ? abs.generic_string() : rel.generic_string();
+    o.mesh = stored_mesh_path(abs.lexically_normal(), to_dir);
   }
 }
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <utility>
 
 namespace annex::authoring {
 
@@ -126,14 +128,213 @@ double radial(Vec3 p, Vec3 origin, Vec3 axis) {
   return norm(d - axis * dot(d, axis));
 }
 
+// Solves the n x n system a x = b (n <= 4) by Gaussian elimination with partial
+// pivoting; false when it is singular at the data's scale.
+template <int N>
+bool solve_linear(double a[N][N], double b[N], double x[N]) {
+  double scale = 0;
+  for (int i = 0; i < N; ++i)
+    for (int j = 0; j < N; ++j) scale = std::max(scale, std::abs(a[i][j]));
+  if (!(scale > 0)) return false;
+  for (int c = 0; c < N; ++c) {
+    int piv = c;
+    for (int r = c + 1; r < N; ++r)
+      if (std::abs(a[r][c]) > std::abs(a[piv][c])) piv = r;
+    if (!(std::abs(a[piv][c]) > 1e-12 * scale)) return false;
+    for (int j = 0; j < N; ++j) std::swap(a[c][j], a[piv][j]);
+    std::swap(b[c], b[piv]);
+    for (int r = c + 1; r < N; ++r) {
+      const double f = a[r][c] / a[c][c];
+      for (int j = c; j < N; ++j) a[r][j] -= f * a[c][j];
+      b[r] -= f * b[c];
+    }
+  }
+  for (int r = N - 1; r >= 0; --r) {
+    double v = b[r];
+    for (int j = r + 1; j < N; ++j) v -= a[r][j] * x[j];
+    x[r] = v / a[r][r];
+  }
+  return true;
+}
+
+// The least-squares circle (Kasa) through the points projected onto the plane across
+// `axis` through `origin`: its centre in that plane. Unlike a bounding box's centre it
+// is right for part of a circle (a C-shaped handle, the visible half of a bottle).
+std::optional<Vec3> circle_center(std::span<const Vec3> pts, Vec3 origin, Vec3 axis) {
+  const Vec3 e0 = normalized(std::abs(axis.x) < 0.9 ? cross(axis, Vec3{1, 0, 0})
+                                                    : cross(axis, Vec3{0, 1, 0}));
+  const Vec3 e1 = cross(axis, e0);
+  // Normal equations of  u^2 + v^2 + D u + E v + F = 0  in the unknowns (D, E, F).
+  double m[3][3] = {}, rhs[3] = {}, sol[3];
+  for (const Vec3& p : pts) {
+    const Vec3 d = p - origin;
+    const double u = dot(d, e0), v = dot(d, e1), w = -(u * u + v * v);
+    const double row[3] = {u, v, 1};
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) m[i][j] += row[i] * row[j];
+      rhs[i] += row[i] * w;
+    }
+  }
+  if (!solve_linear<3>(m, rhs, sol)) return std::nullopt;
+  double cu = -0.5 * sol[0], cv = -0.5 * sol[1];
+  // The algebraic circle leans towards the outer side of a partial ring of tube points;
+  // Gauss-Newton on the geometric distances | |q - c| - R | removes the bias.
+  double r = 0;
+  for (const Vec3& p : pts) {
+    const Vec3 d = p - origin;
+    r += std::hypot(dot(d, e0) - cu, dot(d, e1) - cv);
+  }
+  r /= static_cast<double>(pts.size());
+  for (int it = 0; it < 30; ++it) {
+    double jtj[3][3] = {}, jtr[3] = {}, step[3];
+    for (const Vec3& p : pts) {
+      const Vec3 d = p - origin;
+      const double du = dot(d, e0) - cu, dv = dot(d, e1) - cv, len = std::hypot(du, dv);
+      if (len < 1e-12) continue;
+      const double j[3] = {-du / len, -dv / len, -1}, res = len - r;
+      for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b) jtj[a][b] += j[a] * j[b];
+        jtr[a] -= j[a] * res;
+      }
+    }
+    if (!solve_linear<3>(jtj, jtr, step)) break;
+    cu += step[0];
+    cv += step[1];
+    r += step[2];
+    if (std::abs(step[0]) + std::abs(step[1]) + std::abs(step[2]) < 1e-12) break;
+  }
+  if (!std::isfinite(cu) || !std::isfinite(cv)) return std::nullopt;
+  return origin + e0 * cu + e1 * cv;
+}
+
+// The least-squares sphere (Kasa) through the points: its centre, right for a cap too.
+std::optional<Vec3> sphere_center(std::span<const Vec3> pts, Vec3 origin) {
+  double m[4][4] = {}, rhs[4] = {}, sol[4];
+  for (const Vec3& p : pts) {
+    const Vec3 d = p - origin;
+    const double row[4] = {d.x, d.y, d.z, 1}, w = -dot(d, d);
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 4; ++j) m[i][j] += row[i] * row[j];
+      rhs[i] += row[i] * w;
+    }
+  }
+  if (!solve_linear<4>(m, rhs, sol)) return std::nullopt;
+  return origin + Vec3{-0.5 * sol[0], -0.5 * sol[1], -0.5 * sol[2]};
+}
+
+// A torus around a full ring or a C-shaped part of one (a mug handle): the spine
+// circle's centre is circle_center's, so a partial arc finds its true centre, not its
+// bounding box's. The major radius is the points' mean distance from that centre in
+// the plane and the minor radius their mean distance from the spine circle: both exact
+// for points spread evenly round the tube. Local +X points at the middle of the arc
+// (the handle's grip).
+struct RingFit {
+  Pose pose;
+  double major_m = 0, minor_m = 0;
+};
+
+std::optional<RingFit> fit_ring(std::span<const Vec3> pts, Vec3 origin, Vec3 axis) {
+  const std::optional<Vec3> c_plane = circle_center(pts, origin, axis);
+  if (!c_plane) return std::nullopt;
+  double mean_rho = 0, mean_h = 0;
+  Vec3 toward_arc{};
+  for (const Vec3& p : pts) {
+    const Vec3 d = p - *c_plane;
+    const double h = dot(d, axis);
+    const Vec3 in_plane = d - axis * h;
+    mean_rho += norm(in_plane);
+    mean_h += h;
+    toward_arc = toward_arc + in_plane;
+  }
+  const double n = static_cast<double>(pts.size());
+  mean_rho /= n;
+  mean_h /= n;
+  double mean_tube = 0;
+  for (const Vec3& p : pts) {
+    const Vec3 d = p - *c_plane;
+    const double h = dot(d, axis) - mean_h;
+    const double rho = norm(d - axis * dot(d, axis));
+    mean_tube += std::hypot(rho - mean_rho, h);
+  }
+  mean_tube /= n;
+  if (!(mean_rho > mean_tube)) return std::nullopt;  // not a ring: a disc or a blob
+  RingFit ring;
+  ring.pose.position = *c_plane + axis * mean_h;
+  // A full ring's points average to its centre: no arc to point at.
+  const Vec3 e0 = normalized(std::abs(axis.x) < 0.9 ? cross(axis, Vec3{1, 0, 0})
+                                                    : cross(axis, Vec3{0, 1, 0}));
+  const Vec3 x = norm(toward_arc) / n > 0.05 * mean_rho ? normalized(toward_arc) : e0;
+  ring.pose.rotation = quat_from_frame(x, cross(axis, x), axis);
+  ring.major_m = mean_rho;
+  ring.minor_m = mean_tube;
+  return ring;
+}
+
+// The principal frame with its third axis fixed to `axis` (a snapped fit): the other
+// two are the principal directions of the points projected across it.
+Frame frame_about(std::span<const Vec3> pts, Vec3 axis) {
+  Frame f = principal_frame(pts);
+  const Vec3 a = normalized(axis);
+  double c[3][3] = {};
+  for (const Vec3& p : pts) {
+    Vec3 d = p - f.centroid;
+    d = d - a * dot(d, a);
+    const double dv[3] = {d.x, d.y, d.z};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) c[i][j] += dv[i] * dv[j];
+  }
+  const Eigen3 e = symmetric_eigen(c);
+  // The in-plane eigenvectors are the two largest (the third is `a`, eigenvalue 0).
+  Vec3 x = e.vectors[0] - a * dot(e.vectors[0], a);
+  x = norm(x) > 1e-9 ? canonical_sign(normalized(x)) : normalized(cross(a, Vec3{1, 0, 0}));
+  f.eig.vectors[0] = x;
+  f.eig.vectors[1] = cross(a, x);
+  f.eig.vectors[2] = a;
+  for (int k = 0; k < 3; ++k) {
+    f.lo[k] = std::numeric_limits<double>::infinity();
+    f.hi[k] = -f.lo[k];
+    double var = 0;
+    for (const Vec3& p : pts) {
+      const double t = dot(p - f.centroid, f.eig.vectors[k]);
+      f.lo[k] = std::min(f.lo[k], t);
+      f.hi[k] = std::max(f.hi[k], t);
+      var += t * t;
+    }
+    f.eig.values[k] = var;
+  }
+  return f;
+}
+
+// The axis of a surface of revolution from its normals: a side's normals are all
+// perpendicular to it (the least direction of sum n n^T) as long as they spread over
+// an arc; normals nearly all alike are a flat face, a cap, whose normal is the axis.
+std::optional<Vec3> axis_from_normals(std::span<const Vec3> normals) {
+  double m[3][3] = {};
+  for (const Vec3& n : normals) {
+    const double v[3] = {n.x, n.y, n.z};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) m[i][j] += v[i] * v[j];
+  }
+  const Eigen3 e = symmetric_eigen(m);
+  if (!(e.values[0] > 0)) return std::nullopt;
+  const bool side = e.values[1] >= 0.05 * e.values[0];
+  return canonical_sign(side ? e.vectors[2] : e.vectors[0]);
+}
+
 }  // namespace
 
-Result<FitResult> fit_primitive(std::span<const Vec3> points, ShapeKind kind) {
+Result<FitResult> fit_primitive(std::span<const Vec3> points, ShapeKind kind,
+                                const FitOptions& options) {
   if (points.size() < 4)
     return Error{"fit to selection needs at least 4 mesh vertices; the selection has " +
                      std::to_string(points.size()),
                  {}};
-  const Frame f = principal_frame(points);
+  const bool snapped = options.axis && norm(*options.axis) > 1e-9;
+  std::optional<Vec3> fixed_axis = snapped ? options.axis : std::nullopt;
+  const bool axial = kind == ShapeKind::cylinder || kind == ShapeKind::cone;
+  if (!snapped && axial && options.normals.size() == points.size())
+    fixed_axis = axis_from_normals(options.normals);
+  const Frame f = fixed_axis ? frame_about(points, *fixed_axis) : principal_frame(points);
   const Vec3 center = box_center(f);
   FitResult out;
   out.pose.position = center;
@@ -143,6 +344,13 @@ Result<FitResult> fit_primitive(std::span<const Vec3> points, ShapeKind kind) {
     case ShapeKind::sphere: {
       double r = 0;
       for (int k = 0; k < 3; ++k) r = std::max(r, 0.5 * (f.hi[k] - f.lo[k]));
+      // A cap (the visible side of a ball) has its centre behind it: fit the sphere.
+      if (auto c = sphere_center(points, center); c && norm(*c - center) < r) {
+        double mean = 0;
+        for (const Vec3& p : points) mean += norm(p - *c);
+        out.pose.position = *c;
+        r = mean / static_cast<double>(points.size());
+      }
       out.dimensions = {r};
       break;
     }
@@ -152,7 +360,13 @@ Result<FitResult> fit_primitive(std::span<const Vec3> points, ShapeKind kind) {
       break;
     }
     case ShapeKind::torus: {
-      const Vec3 axis = canonical_sign(f.eig.vectors[2]);
+      const Vec3 axis = snapped ? f.eig.vectors[2] : canonical_sign(f.eig.vectors[2]);
+      if (auto ring = fit_ring(points, f.centroid, axis)) {
+        out.pose = ring->pose;
+        out.dimensions = {ring->major_m, ring->minor_m};
+        break;
+      }
+      // Points on a line in the ring's plane: no circle, size the bounding ring.
       double rmax = 0;
       for (const Vec3& p : points) rmax = std::max(rmax, radial(p, center, axis));
       const double minor = 0.5 * (f.hi[2] - f.lo[2]);
@@ -163,31 +377,41 @@ Result<FitResult> fit_primitive(std::span<const Vec3> points, ShapeKind kind) {
     case ShapeKind::cylinder:
     case ShapeKind::cone: {
       // The axis is the principal direction whose cross-section is the roundest.
-      int best = 0;
-      double best_score = std::numeric_limits<double>::infinity();
-      for (int a = 0; a < 3; ++a) {
-        const double l1 = ev[(a + 1) % 3], l2 = ev[(a + 2) % 3];
-        const double score = std::abs(l1 - l2) / std::max({l1, l2, 1e-30});
-        if (score < best_score - 1e-9) {
-          best_score = score;
-          best = a;
+      int best = 2;
+      if (!fixed_axis) {
+        double best_score = std::numeric_limits<double>::infinity();
+        for (int a = 0; a < 3; ++a) {
+          const double l1 = ev[(a + 1) % 3], l2 = ev[(a + 2) % 3];
+          const double score = std::abs(l1 - l2) / std::max({l1, l2, 1e-30});
+          if (score < best_score - 1e-9) {
+            best_score = score;
+            best = a;
+          }
         }
       }
-      Vec3 axis = canonical_sign(f.eig.vectors[best]);
+      Vec3 axis = fixed_axis ? f.eig.vectors[2] : canonical_sign(f.eig.vectors[best]);
       const double height = f.hi[best] - f.lo[best];
+      // Across the axis, the centre of the circle through the points: the bounding
+      // box's centre is off for a part of the round (the side a box selection sees).
+      Vec3 c = center;
+      double rbox = 0;
+      for (const Vec3& p : points) rbox = std::max(rbox, radial(p, center, axis));
+      if (auto cc = circle_center(points, center, axis); cc && norm(*cc - center) < rbox)
+        c = *cc;
       double rmax = 0;
-      for (const Vec3& p : points) rmax = std::max(rmax, radial(p, center, axis));
+      for (const Vec3& p : points) rmax = std::max(rmax, radial(p, c, axis));
       if (kind == ShapeKind::cone) {
         // The base is the end where the vertices spread widest; +Z points to the apex.
         double r_neg = 0, r_pos = 0;
         for (const Vec3& p : points) {
-          const double t = dot(p - center, axis);
-          const double r = radial(p, center, axis);
+          const double t = dot(p - c, axis);
+          const double r = radial(p, c, axis);
           if (t < -0.3 * height) r_neg = std::max(r_neg, r);
           if (t > 0.3 * height) r_pos = std::max(r_pos, r);
         }
         if (r_pos > r_neg) axis = axis * -1.0;
       }
+      out.pose.position = c;
       out.pose.rotation = rotation_from_z(axis);
       out.dimensions = {rmax, height};
       break;
@@ -195,6 +419,19 @@ Result<FitResult> fit_primitive(std::span<const Vec3> points, ShapeKind kind) {
   }
   for (double& d : out.dimensions) d = std::max(d, 1e-4);  // a flat selection still fits
   return out;
+}
+
+std::optional<Vec3> snap_axis(AxisSnap snap, const MeshData& mesh) {
+  switch (snap) {
+    case AxisSnap::none: return std::nullopt;
+    case AxisSnap::object_up: return Vec3{0, 1, 0};
+    case AxisSnap::mesh_principal: {
+      const std::vector<Vec3> pts = mesh_points(mesh);
+      if (auto fit = fit_primitive(pts, ShapeKind::cylinder)) return fit->pose.axis();
+      return std::nullopt;
+    }
+  }
+  return std::nullopt;
 }
 
 std::vector<Vec3> mesh_points(const MeshData& mesh, const Box3* box) {

@@ -77,12 +77,13 @@ Status write_file_atomically(const std::filesystem::path& path, std::string_view
       path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
   std::string tmpl = (dir / (path.filename().string().insert(0, 1, '.') + ".tmp-XXXXXX")).string();
   const int fd = ::mkstemp(tmpl.data());
-  if (fd < 0) return file_error(tmpl, "cannot create", errno);
+  // Messages name the file the user asked for, not the temporary one beside it.
+  if (fd < 0) return file_error(path, "cannot write", errno);
   const std::filesystem::path tmp = tmpl;
   const auto fail = [&](std::string_view what) {
     const int err = errno;
     ::unlink(tmp.c_str());
-    return Status(file_error(what == "cannot rename" ? path : tmp, what, err));
+    return Status(file_error(path, what, err));
   };
 
   // mkstemp makes the file 0600; keep the old file's mode, or use the usual 0644.

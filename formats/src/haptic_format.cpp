@@ -14,6 +14,15 @@ namespace {
 using namespace detail;
 
 constexpr std::string_view kHeader = "annex-haptic";
+
+// Votes run from 0 to C (100 unless the runtime is told otherwise): a minimum above
+// 1000 cannot be met by any sensible C and is a typo.
+std::optional<std::string> check_min_vote(double v) {
+  if (!(v >= 0) || v > 1000)
+    return "min_vote must be a vote from 0 to 1000 (votes run from 0 to C, 100 by default), "
+           "got " + format_number(v);
+  return std::nullopt;
+}
 constexpr int kVersion = 1;
 constexpr std::string_view kTopKeys[] = {"object", "exclude"};
 // Keys of an exclude block: its shape, then size ranges by dimension name.
@@ -21,7 +30,8 @@ constexpr std::string_view kExcludeKeys[] = {
     "shape", "prop_height", "radius", "height", "major_radius", "minor_radius",
     "size_x", "size_y", "size_z", "end"};
 constexpr std::string_view kRangeKeys[] = {"min", "max"};
-constexpr std::string_view kObjectKeys[] = {"mesh", "annexable", "priority", "primitive", "end"};
+constexpr std::string_view kObjectKeys[] = {"mesh",      "annexable", "priority",
+                                             "min_vote", "primitive", "end"};
 constexpr std::string_view kPrimitiveKeys[] = {"priority", "position", "rotation", "end"};
 constexpr std::string_view kDimensionKeys[] = {"priority", "scale"};
 constexpr std::string_view kShapeNames[] = {"sphere", "cylinder", "cone", "torus", "box"};
@@ -416,7 +426,8 @@ Result<HapticSpec> parse_haptic(std::string_view text, std::string_view origin,
         prim = std::move(p);
         continue;
       }
-      const bool known = key.text == "mesh" || key.text == "annexable" || key.text == "priority";
+      const bool known = key.text == "mesh" || key.text == "annexable" || key.text == "priority" ||
+                         key.text == "min_vote";
       if (!known) return unknown_key(origin, key, block, kObjectKeys);
       if (auto first = o.keys.find(key.text))
         return duplicate_key(origin, key, "object '" + o.object.name + "'", *first);
@@ -433,6 +444,11 @@ Result<HapticSpec> parse_haptic(std::string_view text, std::string_view origin,
         if (v.quoted || (v.text != "yes" && v.text != "no"))
           return error_at(origin, v, "expected 'yes' or 'no' after 'annexable', found " + shown(v));
         o.object.annexable = v.text == "yes";
+      } else if (key.text == "min_vote") {
+        auto v = r.number("min_vote");
+        if (!v) return v.error();
+        if (auto msg = check_min_vote(*v)) return error_at(origin, r.last(), *msg);
+        o.object.min_vote = *v;
       } else {
         auto w = r.unit_interval("priority");
         if (!w) return w.error();
@@ -520,6 +536,7 @@ Status validate_haptic(const HapticSpec& spec, std::string_view origin) {
       return fail(where, "duplicate object name '" + o.name + "'");
     if (has_control_char(o.mesh)) return fail(where, "mesh path contains a control character");
     if (auto msg = check_unit_interval(o.priority, "priority")) return fail(where, *msg);
+    if (auto msg = check_min_vote(o.min_vote)) return fail(where, *msg);
     if (o.primitives.size() > kMaxPrimitivesPerObject)
       return fail(where, "object '" + o.name + "' has more than " +
                              std::to_string(kMaxPrimitivesPerObject) + " primitives");
@@ -604,6 +621,7 @@ std::string write_haptic(const HapticSpec& spec) {
     if (!o.mesh.empty()) out += "  mesh " + quote_if_needed(o.mesh) + "\n";
     out += std::string("  annexable ") + (o.annexable ? "yes" : "no") + "\n";
     out += "  priority " + format_number(o.priority) + "\n";
+    if (o.min_vote != 0) out += "  min_vote " + format_number(o.min_vote) + "\n";
     for (const Primitive& p : o.primitives) {
       out += "  primitive " + p.name + " " + std::string(shape_name(p.kind)) + "\n";
       out += "    priority " + format_number(p.weight) + "\n";

@@ -1,7 +1,10 @@
 #include "cli.h"
 
 #include <charconv>
+#include <filesystem>
 #include <iostream>
+
+#include "annex/formats/text_lexer.h"
 
 namespace annex::cli {
 
@@ -47,8 +50,13 @@ std::optional<ParsedArgs> parse_args(std::string_view command, const std::vector
         value = args[++i];
       }
     } else if (!listed(spec.flags, name) || inline_value) {
-      std::cerr << "annex-runtime " << command << ": error: unknown option '" << a
-                << "' (see annex-runtime " << command << " --help)\n";
+      std::vector<std::string> known;
+      for (auto n : spec.flags) known.push_back("--" + std::string(n));
+      for (auto n : spec.with_value) known.push_back("--" + std::string(n));
+      known.push_back("--help");
+      std::cerr << "annex-runtime " << command << ": error: unknown option '" << a << "'"
+                << did_you_mean("--" + name, known) << " (see annex-runtime " << command
+                << " --help)\n";
       return std::nullopt;
     }
     out.options.emplace_back(std::move(name), std::move(value));
@@ -77,6 +85,22 @@ std::optional<long> parse_count(std::string_view command, std::string_view optio
     return std::nullopt;
   }
   return n;
+}
+
+void create_parent_dirs(const std::string& file) {
+  const std::filesystem::path dir = std::filesystem::path(file).parent_path();
+  std::error_code ec;
+  if (!dir.empty()) std::filesystem::create_directories(dir, ec);
+}
+
+std::string plural(long long n, std::string_view noun) {
+  return std::to_string(n) + " " + std::string(noun) + (n == 1 ? "" : "s");
+}
+
+std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates) {
+  std::vector<std::string_view> views(candidates.begin(), candidates.end());
+  const std::string s = detail::suggestion(word, views);
+  return s.starts_with("; did you mean") ? s : "";
 }
 
 }  // namespace annex::cli

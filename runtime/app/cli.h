@@ -48,4 +48,15 @@ int fail(std::string_view command, std::string_view message, int code);
 std::optional<long> parse_count(std::string_view command, std::string_view option,
                                 const std::string& text);
 
+// Creates the folder an output file goes into, as `run --out DIR` creates DIR (errors
+// show when the file is written).
+void create_parent_dirs(const std::string& file);
+
+// "1 virtual object", "3 virtual objects": counts in messages read as English.
+std::string plural(long long n, std::string_view noun);
+
+// "; did you mean '--frames'?" for a mistyped name close to one of `candidates`,
+// else "" (the spec reader's Levenshtein rule, text_lexer.h).
+std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates);
+
 }  // namespace annex::cli

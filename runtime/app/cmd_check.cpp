@@ -1,7 +1,10 @@
 // annex-runtime check SPEC.haptic: validate a spec and summarise it.
+#include <filesystem>
 #include <iostream>
 
+#include "annex/formats/file_io.h"
 #include "annex/formats/haptic_format.h"
+#include "annex/formats/spec_warnings.h"
 #include "commands.h"
 
 namespace annex::cli {
@@ -16,7 +19,16 @@ int run_check(const std::vector<std::string>& args) {
   }
   const std::string& path = parsed->positional[0];
   std::vector<Diagnostic> warnings;
-  const Result<HapticSpec> spec = read_haptic_file(path, &warnings);
+  const auto text = read_text_file(path);
+  if (!text) {
+    std::cerr << text.error().format() << "\n";
+    return kExitBadInput;
+  }
+  const Result<HapticSpec> spec = parse_haptic(*text, path, &warnings);
+  if (spec) {
+    const auto more = spec_warnings(*spec, *text, path, std::filesystem::path(path).parent_path());
+    warnings.insert(warnings.end(), more.begin(), more.end());
+  }
   for (const Diagnostic& w : warnings) std::cerr << w.format() << "\n";
   if (!spec) {
     std::cerr << spec.error().format() << "\n";
@@ -27,8 +39,8 @@ int run_check(const std::vector<std::string>& args) {
     annexable += o.annexable ? 1 : 0;
     primitives += static_cast<int>(o.primitives.size());
   }
-  std::cout << path << ": ok: " << spec->objects.size() << " virtual objects (" << annexable
-            << " annexable), " << primitives << " primitives\n";
+  std::cout << path << ": ok: " << plural(spec->objects.size(), "virtual object") << " ("
+            << annexable << " annexable), " << plural(primitives, "primitive") << "\n";
   for (const VirtualObject& o : spec->objects) {
     std::cout << "  " << o.name << (o.annexable ? "" : " (virtual-only)");
     for (size_t i = 0; i < o.primitives.size(); ++i)

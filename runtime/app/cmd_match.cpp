@@ -51,8 +51,10 @@ Result<PhysicalScene> load_scene(const std::string& path, const std::optional<st
 }
 
 int run_match(const std::vector<std::string>& args) {
-  const auto parsed = parse_args("match", args, {{"explain"}, {"min-vote", "max-vote", "config",
-                                                               "color", "intrinsics", "depth-scale"}});
+  const auto parsed = parse_args("match", args,
+                                 {{"explain", "within-limits"},
+                                  {"min-vote", "max-vote", "config", "color", "intrinsics",
+                                   "depth-scale"}});
   if (!parsed) return kExitBadInput;
   FrameSourceParams depth_params;
   if (!read_depth_options("match", *parsed, depth_params)) return kExitBadInput;
@@ -67,6 +69,7 @@ int run_match(const std::vector<std::string>& args) {
     if (!x) return kExitBadInput;
     params.min_vote = *x;
   }
+  params.within_limits = parsed->has("within-limits");
   if (auto v = parsed->get("max-vote")) {
     const auto x = parse_non_negative("max-vote", *v);
     if (!x) return kExitBadInput;
@@ -96,8 +99,9 @@ int run_match(const std::vector<std::string>& args) {
 const Command kMatchCommand{
     "match", "vote and match a spec against a scene (the match simulator)",
     "usage: annex-runtime match SPEC.haptic (SCENE.scene | CLOUD.pcd | DEPTH.png)\n"
-    "                           [--explain] [--min-vote X] [--max-vote C] [--config SCAN.conf]\n"
-    "                           [--color RGB.png] [--intrinsics fx,fy,cx,cy] [--depth-scale S]\n"
+    "                           [--explain] [--min-vote X] [--within-limits] [--max-vote C]\n"
+    "                           [--config SCAN.conf] [--color RGB.png]\n"
+    "                           [--intrinsics fx,fy,cx,cy] [--depth-scale S]\n"
     "\n"
     "With a depth frame (.pcd, or a 16-bit depth .png with the options of 'scan') the\n"
     "scanner runs first (see 'scan --help') and its\n"
@@ -109,7 +113,10 @@ const Command kMatchCommand{
     "  virtual-only <virtual-name>\n"
     "\n"
     "  --explain      print the vote table and each pair's breakdown first\n"
-    "  --min-vote X   never match a pair voting X or less (default 0)\n"
+    "  --min-vote X   never match a pair voting X or less (default 0); a spec's\n"
+    "                 per-object 'min_vote V' also never matches a pair voting under V\n"
+    "  --within-limits never match a prop that needs a dimension scaled beyond the\n"
+    "                 primitive's scaling limits\n"
     "  --max-vote C   the constant C, the highest possible vote (default 100)\n"
     "  --config FILE  scan parameters for a .pcd (default: Kinect, samples/config/scan.conf)\n"
     "\n"

@@ -12,7 +12,9 @@
 #include "annex/common/prop_fit.h"
 #include "annex/formats/haptic_format.h"
 #include "annex/formats/scene_format.h"
+#include "annex/runtime/annex_session.h"
 #include "annex/runtime/pcd_io.h"
+#include "annex/runtime/scanner.h"
 #include "annex/runtime/renderer.h"
 #include "commands.h"
 #include "hmd_option.h"
@@ -66,10 +68,11 @@ Status add_wireframes(Renderer& renderer, const PhysicalScene& scene,
 int run_render(const std::vector<std::string>& args) {
   const auto parsed = parse_args(kName, args,
                                  {{"stereo", "window", "points", "wireframes", "no-egl"},
-                                  {"out", "cloud", "hmd", "repeat", "frames", "point-stride"}});
+                                  {"out", "cloud", "hmd", "repeat", "frames", "point-stride",
+                                   "config"}});
   if (!parsed) return kExitBadInput;
   if (parsed->positional.size() != 2)
-    return fail("expected SPEC.haptic and SCENE.scene (see --help)", kExitBadInput);
+    return fail("expected SPEC.haptic and SCENE.scene or CLOUD.pcd (see --help)", kExitBadInput);
   const bool window = parsed->has("window");
   const auto out_path = parsed->get("out");
   if (!out_path && !window) return fail("expected --out OUT.png or --window", kExitBadInput);
@@ -95,15 +98,51 @@ int run_render(const std::vector<std::string>& args) {
   std::vector<Diagnostic> warnings;
   const std::filesystem::path spec_path = parsed->positional[0];
   const Result<HapticSpec> spec = read_haptic_file(spec_path, &warnings);
-  const Result<PhysicalScene> scene = read_scene_file(parsed->positional[1], &warnings);
+  // The scene: a .scene file, or a depth frame scanned first (as `match` takes it), whose
+  // colour image is then the background unless --cloud names another.
+  const std::string& scene_arg = parsed->positional[1];
+  const bool scene_is_cloud = scene_arg.ends_with(".pcd");
+  std::optional<Frame> scanned;
+  int scene_failure = kExitBadInput;
+  Result<PhysicalScene> scene = Error{"", {}};
+  if (scene_is_cloud) {
+    auto read = read_pcd(scene_arg);
+    if (!read) {
+      scene = read.error();
+    } else {
+      ScanParams scan_params;
+      if (auto cfg_path = parsed->get("config")) {
+        Result<ScanParams> cfg = read_scan_config_file(*cfg_path);
+        if (!cfg) {
+          std::cerr << cfg.error().format() << "\n";
+          return kExitBadInput;
+        }
+        scan_params = *cfg;
+      }
+      Result<ScanResult> scan = scan_frame(*read, scan_params);
+      if (scan) {
+        scene = std::move(scan->scene);
+      } else {
+        Error e = scan.error();
+        e.location.origin = scene_arg;
+        scene = e;
+        scene_failure = kExitFailure;
+      }
+      scanned = std::move(*read);
+    }
+  } else {
+    scene = read_scene_file(scene_arg, &warnings);
+  }
   std::optional<HmdConfig> hmd;
   if (!read_hmd_option(kName, *parsed, warnings, hmd)) return kExitBadInput;
   for (const Diagnostic& w : warnings) std::cerr << w.format() << "\n";
   if (!spec) std::cerr << spec.error().format() << "\n";
   if (!scene) std::cerr << scene.error().format() << "\n";
-  if (!spec || !scene) return kExitBadInput;
+  if (!spec) return kExitBadInput;
+  if (!scene) return scene_failure;
 
   std::optional<Frame> frame;
+  if (scanned && !parsed->get("cloud")) frame = std::move(scanned);
   if (auto cloud = parsed->get("cloud")) {
     auto read = read_pcd(*cloud);
     if (!read) {
@@ -165,8 +204,10 @@ int run_render(const std::vector<std::string>& args) {
     matched[*m.physical_index] = true;
     const PropFit fit =
         fit_to_prop(v.primitives[e.virtual_primitive], p.primitives[e.physical_primitive]);
+    // Along the model's axes, as poses.txt has it (fit.scale is along the primitive's).
+    const Vec3 s = decompose_model_transform(fit.world_from_model).scale;
     char scale[96];
-    std::snprintf(scale, sizeof scale, "%.3f,%.3f,%.3f", fit.scale.x, fit.scale.y, fit.scale.z);
+    std::snprintf(scale, sizeof scale, "%.4f,%.4f,%.4f", s.x, s.y, s.z);
     std::cout << "render " << v.name << " on " << p.id << " scale=" << scale
               << (fit.clamped ? " clamped" : "") << "\n";
     const Rgba tint = overlay_tint(colour++);
@@ -212,6 +253,7 @@ int run_render(const std::vector<std::string>& args) {
     std::cout << line << "\n";
   }
   if (out_path) {
+    create_parent_dirs(*out_path);
     if (auto st = write_rgba_png(*out_path, image); !st)
       return fail(st.error().format(), kExitFailure);
     std::cout << "wrote " << *out_path << " (" << image.width << "x" << image.height << ")\n";
@@ -230,7 +272,8 @@ int run_render(const std::vector<std::string>& args) {
 
 const Command kRenderCommand{
     "render", "render a spec's virtual objects fitted onto a scene's props",
-    "usage: annex-runtime render SPEC.haptic SCENE.scene (--out OUT.png | --window)\n"
+    "usage: annex-runtime render SPEC.haptic (SCENE.scene | CLOUD.pcd)\n"
+    "                            (--out OUT.png | --window) [--config SCAN.conf]\n"
     "                            [--cloud CLOUD.pcd] [--points] [--wireframes]\n"
     "                            [--stereo [--hmd HMD.conf]] [--repeat N] [--frames N]\n"
     "                            [--point-stride N] [--no-egl]\n"
@@ -241,6 +284,9 @@ const Command kRenderCommand{
     "the spec file; without one, its haptic primitives as solid shapes). Prints\n"
     "  render <virtual-name> on <physical-id> scale=sx,sy,sz [clamped]\n"
     "  virtual-only <virtual-name>\n"
+    "scale is along the model's x, y, z, as in run's poses.txt.\n"
+    "With a depth frame (.pcd) the scanner runs first (see 'scan --help'; --config its\n"
+    "parameters) and the frame's colour image is the background.\n"
     "\n"
     "  --out OUT.png   write the rendered image (RGBA PNG)\n"
     "  --cloud C.pcd   draw over this frame: its colour image when organized, else its\n"

@@ -2,6 +2,7 @@
 // scan, vote and match, track each matched prop, write poses and overlays.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <cstdio>
 #include <filesystem>
@@ -58,6 +59,102 @@ std::vector<Drawable> object_drawables(Renderer& renderer, const std::filesystem
   return out;
 }
 
+// Deletes DIR/overlay_NNNNN.png (this command's names only); returns how many.
+int remove_old_overlays(const std::filesystem::path& dir) {
+  int removed = 0;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const bool ours = name.size() == 17 && name.starts_with("overlay_") &&
+                      name.ends_with(".png") &&
+                      std::all_of(name.begin() + 8, name.begin() + 13,
+                                  [](char c) { return c >= '0' && c <= '9'; });
+    std::error_code rm;
+    if (ours && it->is_regular_file(rm) && std::filesystem::remove(it->path(), rm)) ++removed;
+  }
+  return removed;
+}
+
+// Why annexable objects got no prop, one line each, from the last match that ran
+// (`annexed` marks the objects that have one; empty: none has).
+void explain_no_match(const HapticSpec& spec, const std::optional<PhysicalScene>& scene,
+                      const std::optional<MatchResult>& match, const MatchParams& params,
+                      const std::vector<bool>& annexed = {}) {
+  int annexable = 0;
+  for (const VirtualObject& o : spec.objects) annexable += o.annexable ? 1 : 0;
+  if (annexable == 0) {
+    std::cerr << "  the spec has no annexable object ('annexable yes')\n";
+    return;
+  }
+  if (!match || !scene) {
+    std::cerr << "  no scan found a support plane and objects to vote on\n";
+    return;
+  }
+  if (scene->objects.empty()) {
+    std::cerr << "  the scans found no physical object on the support plane\n";
+    return;
+  }
+  for (size_t r = 0; r < match->voters.size(); ++r) {
+    const auto vi = static_cast<size_t>(match->voters[r]);
+    if (vi < annexed.size() && annexed[vi]) continue;
+    const VirtualObject& v = spec.objects[vi];
+    // Its candidates by vote, each with why it did not get it (at most three).
+    std::vector<size_t> order;
+    for (size_t j = 0; j < match->table[r].size(); ++j)
+      if (match->table[r][j].vote > 0) order.push_back(j);
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      return match->table[r][a].vote > match->table[r][b].vote;
+    });
+    std::string line;
+    for (size_t k = 0; k < order.size() && k < 3; ++k) {
+      const size_t j = order[k];
+      std::string why = pair_rejection(v, match->table[r][j], params);
+      if (why.empty()) {
+        char vote[32];
+        std::snprintf(vote, sizeof vote, "%.2f", match->table[r][j].vote);
+        why = std::string("votes ") + vote + ", went to another object";
+        for (const MatchEntry& m : match->matches)
+          if (m.physical_index && static_cast<size_t>(*m.physical_index) == j)
+            why = std::string("votes ") + vote + ", went to " +
+                  spec.objects[static_cast<size_t>(m.virtual_index)].name;
+      }
+      line += (k ? "; " : "") + scene->objects[j].id + " " + why;
+    }
+    if (line.empty()) line = "no physical object shares one of its shapes";
+    std::cerr << "  " << v.name << ": " << line << "\n";
+  }
+}
+
+// "note: mug on p2 needs major_radius x2.26 (limits 0.50..1.50), ...: drawn clamped at its
+// limits", per dimension of the matched primitive (boxes largest with largest, as the
+// Voter compares them).
+std::string clamp_note(const HapticSpec& spec, const AnnexedObject& o) {
+  const Primitive& p = spec.objects[static_cast<size_t>(o.virtual_index)]
+                           .primitives[static_cast<size_t>(o.virtual_primitive)];
+  std::vector<int> vi(p.dimensions.size()), pi(o.physical.dimensions_m.size());
+  for (size_t i = 0; i < vi.size(); ++i) vi[i] = static_cast<int>(i);
+  for (size_t i = 0; i < pi.size(); ++i) pi[i] = static_cast<int>(i);
+  if (p.kind == ShapeKind::box) {
+    std::sort(vi.begin(), vi.end(),
+              [&](int a, int b) { return p.dimensions[a].value_m > p.dimensions[b].value_m; });
+    std::sort(pi.begin(), pi.end(), [&](int a, int b) {
+      return o.physical.dimensions_m[a] > o.physical.dimensions_m[b];
+    });
+  }
+  const auto names = dimension_names(p.kind);
+  std::string out = "annex-runtime run: note: " + o.virtual_name + " on " + o.physical_id + " needs";
+  for (size_t k = 0; k < vi.size() && k < pi.size(); ++k) {
+    const Dimension& d = p.dimensions[static_cast<size_t>(vi[k])];
+    const double want = o.physical.dimensions_m[static_cast<size_t>(pi[k])] / d.value_m;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s %s x%.2f (limits %.2f..%.2f)", k ? "," : "",
+                  std::string(names[static_cast<size_t>(vi[k])]).c_str(), want, d.min_scale,
+                  d.max_scale);
+    out += buf;
+  }
+  return out + ": drawn clamped at its limits\n";
+}
+
 std::string frame_name(int i) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "overlay_%05d.png", i);
@@ -73,10 +170,10 @@ double median(std::vector<double> v) {
 int run_run(const std::vector<std::string>& args) {
   const auto parsed = parse_args(
       kName, args,
-      {{"window", "stereo", "no-overlays", "points", "realtime"},
+      {{"window", "stereo", "no-overlays", "points", "realtime", "within-limits"},
        {"source", "out", "frames", "scan-every", "release-after", "threads", "config", "hmd",
          "occlusion", "depth-scale", "intrinsics", "stream", "listen", "exclude",
-         "inject-faults", "source-retries"}});
+         "inject-faults", "source-retries", "min-vote"}});
   if (!parsed) return kExitBadInput;
   if (parsed->positional.size() != 1)
     return fail("expected one SPEC.haptic (see --help)", kExitBadInput);
@@ -113,6 +210,15 @@ int run_run(const std::vector<std::string>& args) {
       return fail("--occlusion expects a margin in metres from 0 to 1, got '" + text + "'",
                   kExitBadInput);
   }
+  if (auto v = parsed->get("min-vote")) {
+    char* end = nullptr;
+    const std::string text(*v);
+    params.match.min_vote = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !(params.match.min_vote >= 0) ||
+        !std::isfinite(params.match.min_vote))
+      return fail("--min-vote expects a finite number >= 0, got '" + text + "'", kExitBadInput);
+  }
+  params.match.within_limits = parsed->has("within-limits");
   params.scan_every = static_cast<int>(scan_every);
   params.release_after_frames = static_cast<int>(release);
   params.threads = static_cast<int>(threads);
@@ -156,6 +262,16 @@ int run_run(const std::vector<std::string>& args) {
 
   // Outputs.
   const auto out_dir = parsed->get("out");
+  if (!out_dir && !parsed->has("window") && !parsed->has("stream") && !parsed->has("listen"))
+    std::cerr << "annex-runtime run: warning: no --out DIR and no --window: nothing is saved or "
+                 "shown, only the match and annexed lines are printed\n";
+  if (out_dir) {
+    // Overlays of an earlier, longer run would sit beside this run's as if they were its own.
+    const int stale = remove_old_overlays(*out_dir);
+    if (stale > 0)
+      std::cerr << "annex-runtime run: note: removed " << plural(stale, "overlay PNG")
+                << " of an earlier run from " << *out_dir << "\n";
+  }
   std::ofstream poses, matches;
   if (out_dir) {
     std::error_code ec;
@@ -228,6 +344,8 @@ int run_run(const std::vector<std::string>& args) {
   std::optional<Error> last_scan_error;
   FrameHealthMonitor health;
   std::vector<std::string> last_state(spec->objects.size());  // per virtual object
+  std::optional<MatchResult> last_match;
+  std::optional<PhysicalScene> last_match_scene;
   const auto t_start = std::chrono::steady_clock::now();
   while (max_frames == 0 || frames < max_frames) {
     const auto t_read = std::chrono::steady_clock::now();
@@ -305,6 +423,8 @@ int run_run(const std::vector<std::string>& args) {
     // killed leaves whole lines.
     std::string match_block;
     if (r.match) {
+      last_match = r.match;
+      last_match_scene = r.match_scene;
       match_block = "frame " + std::to_string(i) + "\n" +
                     format_vote_table(*spec, *r.match_scene, *r.match) + "\n";
       for (const AnnexedObject& o : r.objects) {
@@ -312,16 +432,19 @@ int run_run(const std::vector<std::string>& args) {
         ++matches_made;
         char vote[32];
         std::snprintf(vote, sizeof vote, "%.2f", o.vote);
+        const char* clamped = o.fit.clamped ? " clamped" : "";
         std::cout << "frame " << i << " match " << o.virtual_name << " " << o.physical_id << " "
-                  << vote << "\n";
-        match_block += "match " + o.virtual_name + " " + o.physical_id + " " + vote + "\n";
+                  << vote << clamped << "\n";
+        if (o.fit.clamped) std::cerr << clamp_note(*spec, o);
+        match_block += "match " + o.virtual_name + " " + o.physical_id + " " + vote + clamped + "\n";
       }
       match_block += "\n";
     }
     if (matches.is_open() && !match_block.empty()) matches << match_block << std::flush;
     if (poses.is_open()) {
       std::string pose_block;
-      for (const AnnexedObject& o : r.objects) pose_block += format_pose_line(i, *spec, o) + "\n";
+      for (const AnnexedObject& o : r.objects)
+        pose_block += format_pose_line(i, *spec, o) + (o.fit.clamped ? " clamped" : "") + "\n";
       poses << pose_block << std::flush;
     }
 
@@ -386,14 +509,26 @@ int run_run(const std::vector<std::string>& args) {
   char line[256];
   std::snprintf(line, sizeof line,
                 "annex-runtime run: %d frames in %.2f s (%.1f fps); median per frame %.2f ms "
-                "(tracking %.2f ms, scan %.2f ms over %zu scans)",
+                "(tracking %.2f ms, scan %.2f ms over %zu scan%s)",
                 frames, seconds, seconds > 0 ? frames / seconds : 0.0, median(frame_ms),
-                median(track_ms), median(scan_ms), scan_ms.size());
+                median(track_ms), median(scan_ms), scan_ms.size(), scan_ms.size() == 1 ? "" : "s");
   std::cerr << line << "\n";
   if (matches_made == 0 && frames > 0) {
     std::cerr << "annex-runtime run: no prop was annexed";
     if (last_scan_error) std::cerr << " (last scan: " << last_scan_error->message << ")";
-    std::cerr << "\n";
+    std::cerr << ":\n";
+    explain_no_match(*spec, last_match_scene, last_match, params.match);
+  } else if (last_match) {
+    std::vector<bool> annexed(spec->objects.size(), false);
+    for (const AnnexedObject& o : session.objects())
+      annexed[static_cast<size_t>(o.virtual_index)] = true;
+    bool any = false;
+    for (size_t i = 0; i < spec->objects.size(); ++i)
+      any |= spec->objects[i].annexable && !annexed[i];
+    if (any) {
+      std::cerr << "annex-runtime run: not annexed:\n";
+      explain_no_match(*spec, last_match_scene, last_match, params.match, annexed);
+    }
   }
   if (stream)
     for (const OscTargetStats& t : stream->stats())
@@ -404,7 +539,8 @@ int run_run(const std::vector<std::string>& args) {
                 << "\n";
   for (const AnnexedObject& o : session.objects())
     std::cout << "annexed " << o.virtual_name << " " << o.physical_id
-              << " state=" << tracking_state_name(o.track.state) << "\n";
+              << " state=" << tracking_state_name(o.track.state)
+              << (o.fit.clamped ? " clamped" : "") << "\n";
   if (frames == 0) return fail("the source delivered no frame", kExitFailure);
   return errors > 0 && errors == frames ? kExitFailure : kExitOk;
 }
@@ -421,6 +557,7 @@ extern const Command kRunCommand = {
     "                         [--stream osc.udp://HOST:PORT]... [--listen osc.udp://:PORT]\n"
     "                         [--exclude ID[,ID...]] [--inject-faults PLAN]\n"
     "                         [--source-retries N]\n"
+    "                         [--min-vote X] [--within-limits]\n"
     "\n"
     "SRC is a .pcd file, a directory of .pcd frames (name order), a TUM RGB-D sequence\n"
     "(a directory with depth.txt and rgb.txt), a directory of 16-bit depth PNGs or one,\n"
@@ -429,16 +566,19 @@ extern const Command kRunCommand = {
     "around its last pose; re-initialised after 5 failed frames) and keeps scanning\n"
     "every K frames: virtual objects without a prop vote again, new props are picked\n"
     "up, and a prop lost for N frames is released. Prints\n"
-    "  frame <i> match <virtual-name> <physical-id> <vote>\n"
+    "  frame <i> match <virtual-name> <physical-id> <vote> [clamped]\n"
     "  frame <i> release <virtual-name>\n"
     "  frame <i> exclude <physical-id>                      (an exclusion takes effect)\n"
     "  frame <i> state <virtual-name> <physical-id> <state> (a track's state changed)\n"
-    "  annexed <virtual-name> <physical-id> state=<state>      (at the end)\n"
+    "  annexed <virtual-name> <physical-id> state=<state>      [clamped]  (at the end)\n"
+    "'clamped': the prop needs the model scaled beyond its scaling limits; it is drawn\n"
+    "at the limits (a note on stderr gives the scales). When nothing is annexed, stderr\n"
+    "says why for each annexable object.\n"
     "\n"
     "  --out DIR         write DIR/poses.txt (one line per frame per annexed object:\n"
     "                    frame <i> <virtual> <physical> state=<tracking|held|reinit|lost>\n"
-    "                    t=x,y,z q=w,x,y,z scale=sx,sy,sz, the model's transform in the\n"
-    "                    sensor frame), DIR/matches.txt (the vote table of every match)\n"
+    "                    t=x,y,z q=w,x,y,z scale=sx,sy,sz [clamped], the model's transform\n"
+    "                    in the sensor frame), DIR/matches.txt (the vote table of every match)\n"
     "                    and DIR/overlay_NNNNN.png (each virtual model on its prop)\n"
     "  --window          show the overlays live in a window\n"
     "  --stereo          render side-by-side pairs for a head-mounted display\n"
@@ -470,6 +610,10 @@ extern const Command kRunCommand = {
     "                    (numbers count reads of the source; docs/reliability.md)\n"
     "  --source-retries N  failed reads in a row of a live source before giving up\n"
     "                    (default 30)\n"
+    "  --min-vote X      never match a pair voting X or less (default 0; a spec's\n"
+    "                    per-object 'min_vote' also applies)\n"
+    "  --within-limits   never match a prop that needs a dimension scaled beyond its\n"
+    "                    scaling limits (default: match it and draw the model clamped)\n"
     "\n"
     "Exit 0 on success, 1 when the source fails (a live sensor that failed --source-retries\n"
     "reads in a row, no frame) or no OpenGL context exists for --window, 2 on bad\n"

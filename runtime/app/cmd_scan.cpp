@@ -126,6 +126,7 @@ int run_scan(const std::vector<std::string>& args) {
     std::cout << "total median_ms=" << num(median(totals), 2) << "\n";
   }
   if (auto path = parsed->get("scene")) {
+    create_parent_dirs(*path);
     const Status s = write_scene_file(*path, r.scene);
     if (!s) {
       std::cerr << s.error().format() << "\n";
@@ -133,6 +134,7 @@ int run_scan(const std::vector<std::string>& args) {
     }
   }
   if (auto path = parsed->get("png")) {
+    create_parent_dirs(*path);
     const Status s = write_png(*path, draw_scan_overlay(*frame, r));
     if (!s) {
       std::cerr << s.error().format() << "\n";

@@ -24,7 +24,8 @@ void print_usage(std::ostream& out) {
   for (const Command* c : kCommands)
     out << "  " << c->name << std::string(10 - std::min<size_t>(9, c->name.size()), ' ')
         << c->summary << "\n";
-  out << "\nRun 'annex-runtime <command> --help' for a command's options.\n";
+  out << "\nRun 'annex-runtime <command> --help' for a command's options, "
+         "'annex-runtime --version' for the version.\n";
 }
 
 }  // namespace
@@ -37,6 +38,10 @@ int main(int argc, char** argv) {
   const std::string name = argv[1];
   if (name == "--help" || name == "-h" || name == "help") {
     print_usage(std::cout);
+    return annex::cli::kExitOk;
+  }
+  if (name == "--version" || name == "version") {
+    std::cout << "annex-runtime " << ANNEX_VERSION << "\n";
     return annex::cli::kExitOk;
   }
   const std::vector<std::string> args(argv + 2, argv + argc);
@@ -54,7 +59,12 @@ int main(int argc, char** argv) {
       return annex::cli::kExitFailure;
     }
   }
-  std::cerr << "annex-runtime: error: unknown command '" << name << "'\n";
+  std::vector<std::string> names;
+  for (const Command* c : kCommands) names.emplace_back(c->name);
+  names.emplace_back("--help");
+  names.emplace_back("--version");
+  std::cerr << "annex-runtime: error: unknown command '" << name << "'"
+            << annex::cli::did_you_mean(name, names) << "\n";
   print_usage(std::cerr);
   return annex::cli::kExitBadInput;
 }

@@ -138,6 +138,50 @@ void draw_primitive(Canvas& c, const Projector& proj, const ShapeFit& fit, Rgb c
   }
 }
 
+// Lays labels out so none is cut at the image's edges or hidden under another: each
+// goes above its object if it can, else below it, beside it, or stacked further away,
+// at the first place inside the image that overlaps no label already placed.
+template <typename Get>
+void place_labels(Canvas& canvas, size_t count, Get get) {
+  const int w_img = canvas.img.width, h_img = canvas.img.height;
+  const int scale = w_img >= 480 ? 2 : 1;  // 14 px glyphs on VGA, 7 px on QVGA
+  const int h = 7 * scale + 4;
+  struct Box {
+    int x0, y0, x1, y1;
+    bool overlaps(const Box& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
+  };
+  std::vector<Box> placed;
+  for (size_t i = 0; i < count; ++i) {
+    const auto& l = get(i);
+    std::string copy = l.text;
+    const int w = stb_easy_font_width(copy.data()) * scale + 4;
+    const int cx = (l.left + l.right) / 2 - w / 2;
+    std::vector<std::pair<int, int>> spots = {{cx, l.top - h - 4},   {cx, l.bottom + 4},
+                                              {l.right + 4, l.top},  {l.left - w - 4, l.top},
+                                              {cx, (l.top + l.bottom) / 2 - h / 2}};
+    for (int k = 1; k < 2 * h_img / h; ++k) {  // then further up and down
+      spots.push_back({cx, l.top - h - 4 - k * h});
+      spots.push_back({cx, l.bottom + 4 + k * h});
+    }
+    Box best{};
+    int best_overlaps = -1;
+    for (auto [x, y] : spots) {
+      x = std::clamp(x, 0, std::max(0, w_img - w));
+      y = std::clamp(y, 0, std::max(0, h_img - h));
+      const Box b{x, y, x + w, y + h};
+      int overlaps = 0;
+      for (const Box& o : placed) overlaps += b.overlaps(o) ? 1 : 0;
+      if (best_overlaps < 0 || overlaps < best_overlaps) {
+        best = b;
+        best_overlaps = overlaps;
+      }
+      if (overlaps == 0) break;
+    }
+    placed.push_back(best);
+    canvas.text(best.x0 + 2, best.y0 + 2, l.text, l.colour, scale);
+  }
+}
+
 }  // namespace
 
 RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
@@ -174,24 +218,33 @@ RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
       for (int ch = 0; ch < 3; ++ch) o[ch] = static_cast<std::uint8_t>((o[ch] + col[ch]) / 2);
     }
   }
+  // Outlines first, labels last: no wireframe is drawn over a label.
+  struct Label {
+    std::string text;
+    Rgb colour;
+    int top, bottom, left, right;  // the cluster's pixel bounds
+  };
+  std::vector<Label> labels;
   for (size_t k = 0; k < scan.clusters.size(); ++k) {
     const Rgb col = kPalette[k % std::size(kPalette)];
     const auto& prims = scan.clusters[k].shape.primitives;
     for (size_t j = 0; j < prims.size(); ++j)
       draw_primitive(canvas, proj, prims[j], j == 0 ? Rgb{255, 255, 255} : Rgb{255, 255, 0});
-    // Label above the cluster's topmost pixel.
-    int top = img.height, left = img.width, right = 0;
+    int top = img.height, left = img.width, right = 0, bottom = 0;
     for (int i : scan.clusters[k].pixels) {
       top = std::min(top, i / img.width);
+      bottom = std::max(bottom, i / img.width);
       left = std::min(left, i % img.width);
       right = std::max(right, i % img.width);
     }
-    std::string label = k < scan.scene.objects.size() ? scan.scene.objects[k].id : "?";
-    if (prims.empty()) label.append(" unknown");
-    for (const ShapeFit& f : prims) label.append(" ").append(shape_name(f.primitive.kind));
-    canvas.text(std::max(2, (left + right) / 2 - 30), std::max(4, top - 22), label, col);
+    // "p2 cylinder, part cone": the salient primitive, then the secondary ones.
+    std::string text = k < scan.scene.objects.size() ? scan.scene.objects[k].id : "?";
+    if (prims.empty()) text.append(" unknown");
+    for (size_t j = 0; j < prims.size(); ++j)
+      text.append(j == 0 ? " " : (j == 1 ? ", part " : ", ")).append(shape_name(prims[j].primitive.kind));
+    labels.push_back({std::move(text), col, top, bottom, left, right});
   }
-  return img;
+  place_labels(canvas, labels.size(), [&](size_t i) -> const Label& { return labels[i]; });  return img;
 }
 
 std::string encode_png(const RgbImage& image) {

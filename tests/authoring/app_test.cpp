@@ -127,7 +127,8 @@ TEST_F(AuthorApp, TutorialScriptSavesAValidSpecAndAScreenshot) {
   ASSERT_EQ(parsed->objects.size(), 1u);
   const VirtualObject& o = parsed->objects[0];
   EXPECT_EQ(o.name, "bottle");
-  EXPECT_FALSE(fs::path(o.mesh).is_absolute()) << o.mesh;
+  // Saved in a temporary folder, far from the sample mesh: no "../../.." out of the tree.
+  EXPECT_EQ(o.mesh.find(".."), std::string::npos) << o.mesh;
   ASSERT_EQ(o.primitives.size(), 2u);
   EXPECT_EQ(o.primitives[0].kind, ShapeKind::cylinder);
   EXPECT_EQ(o.primitives[1].kind, ShapeKind::cone);
@@ -205,6 +206,28 @@ TEST_F(AuthorApp, ScriptErrorsNameTheLineAndFail) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("run.script:3"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "never.haptic"));
+}
+
+TEST_F(AuthorApp, AMistypedCommandGetsASuggestion) {
+  const auto dir = testing::fresh_dir("typo");
+  const RunResult r = run_script(dir, "framez 2\n");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("run.script:1: error: unknown command 'framez'; did you mean 'frames'?"),
+            std::string::npos)
+      << r.err;
+}
+
+// A broken spec opens nothing: the error names its file, line and column.
+TEST_F(AuthorApp, ABrokenSpecOpensNothingAndNamesItsLine) {
+  const auto dir = testing::fresh_dir("broken");
+  testing::write_text(dir / "bad.haptic",
+                      "annex-haptic 1\nobject a\n  primitive s sphere\n    radius -0.1\n"
+                      "  end\nend\n");
+  const RunResult r = run_script(dir, "open " + (dir / "bad.haptic").string() + "\nprint\n");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find((dir / "bad.haptic").string() + ":4:12: error: "), std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.out.find("object a"), std::string::npos) << r.out;
 }
 
 TEST_F(AuthorApp, LimitsPreviewRankModeAndBench) {

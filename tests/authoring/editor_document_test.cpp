@@ -177,18 +177,37 @@ TEST(EditorDocument, SaveRefusesAnInvalidSpecAndKeepsTheOldFile) {
   EXPECT_EQ(on_disk->objects.size(), 1u);
 }
 
-TEST(EditorDocument, SaveOpenRoundTripWithRelativeMeshPath) {
-  const auto dir = testing::fresh_dir("roundtrip");
+// A mesh far from the spec (here the source tree's samples, the spec in a temporary
+// folder) keeps its absolute path: "../../../work/..." would break when the spec moves.
+TEST(EditorDocument, AMeshFarFromTheSpecStaysAbsolute) {
+  const auto dir = testing::fresh_dir("far_mesh");
   EditorDocument doc;
   ASSERT_TRUE(
       doc.apply(cmd::ImportMesh{doc.mesh_reference(testing::sample_model("torch.obj")), "torch"}));
+  ASSERT_TRUE(doc.apply(cmd::AddPrimitive{0, ShapeKind::cylinder, std::nullopt, "body"}));
+  ASSERT_TRUE(doc.save_as(dir / "torch.haptic"));
+  const std::string mesh = doc.spec().objects[0].mesh;
+  EXPECT_TRUE(std::filesystem::path(mesh).is_absolute()) << mesh;
+  EXPECT_EQ(mesh.find(".."), std::string::npos) << mesh;
+  EXPECT_NE(doc.mesh_for(0), nullptr);
+}
+
+TEST(EditorDocument, SaveOpenRoundTripWithRelativeMeshPath) {
+  const auto dir = testing::fresh_dir("roundtrip");
+  // The samples' layout: specs/ and models/ side by side.
+  std::filesystem::create_directories(dir / "models");
+  for (const char* f : {"torch.obj", "torch.mtl"})
+    std::filesystem::copy_file(testing::sample_model(f), dir / "models" / f);
+  EditorDocument doc;
+  ASSERT_TRUE(
+      doc.apply(cmd::ImportMesh{doc.mesh_reference(dir / "models" / "torch.obj"), "torch"}));
   ASSERT_TRUE(doc.apply(cmd::AddPrimitive{0, ShapeKind::cylinder, std::nullopt, "body"}));
   EXPECT_TRUE(doc.dirty());
   std::filesystem::create_directories(dir / "specs");
   ASSERT_TRUE(doc.save_as(dir / "specs" / "torch.haptic"));
   EXPECT_FALSE(doc.dirty());
   const std::string mesh = doc.spec().objects[0].mesh;
-  EXPECT_FALSE(std::filesystem::path(mesh).is_absolute()) << mesh;
+  EXPECT_EQ(mesh, "../models/torch.obj");
   EXPECT_NE(doc.mesh_for(0), nullptr);
 
   auto reopened = EditorDocument::open(dir / "specs" / "torch.haptic");

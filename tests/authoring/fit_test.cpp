@@ -110,6 +110,29 @@ TEST(FitPrimitive, TorusLyingFlat) {
   EXPECT_NEAR(fit->dimensions[1], 0.008, 1e-4);
 }
 
+// A mug handle: 160 degrees of a ring standing upright beside the body. The bounding
+// box's centre is 2 cm off the ring's; the circle fit finds the true centre.
+TEST(FitPrimitive, TorusFromACShapedHandle) {
+  const Vec3 c{0.044, 0.05, 0};
+  std::vector<Vec3> pts;
+  for (int i = 0; i <= 24; ++i)
+    for (int j = 0; j < 16; ++j) {
+      const double u = (-80 + 160.0 * i / 24) * kPi / 180, v = 2 * kPi * j / 16;
+      const Vec3 dir{std::cos(u), std::sin(u), 0};
+      pts.push_back(c + dir * (0.028 + 0.0065 * std::cos(v)) + Vec3{0, 0, 0.0065 * std::sin(v)});
+    }
+  auto fit = fit_primitive(pts, ShapeKind::torus);
+  ASSERT_TRUE(fit);
+  EXPECT_NEAR(std::abs(fit->pose.axis().z), 1.0, 1e-6);
+  EXPECT_NEAR(fit->pose.position.x, 0.044, 5e-4);
+  EXPECT_NEAR(fit->pose.position.y, 0.05, 5e-4);
+  EXPECT_NEAR(fit->pose.position.z, 0.0, 1e-6);
+  EXPECT_NEAR(fit->dimensions[0], 0.028, 5e-4);
+  EXPECT_NEAR(fit->dimensions[1], 0.0065, 3e-4);
+  // Local +X points from the ring's centre into the arc (the grip), here +X.
+  EXPECT_GT(rotate(fit->pose.rotation, Vec3{1, 0, 0}).x, 0.99);
+}
+
 TEST(FitPrimitive, TooFewPointsIsAnError) {
   const std::vector<Vec3> pts{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   auto fit = fit_primitive(pts, ShapeKind::sphere);

@@ -6,6 +6,8 @@
 #include <imgui.h>
 #include <imgui_internal.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -268,6 +270,94 @@ TEST_F(HeadlessPanels, HandleDragMovesThePrimitiveInOneUndoStep) {
   EXPECT_EQ(doc.history().size(), steps + 1);
   ASSERT_TRUE(doc.apply(cmd::Undo{}));
   EXPECT_EQ(doc.spec().objects[0].primitives[0].pose.position.x, x0);
+}
+
+
+// A spec that does not parse: the modal shows its file:line:column error until OK.
+TEST_F(HeadlessPanels, ABrokenSpecShowsItsErrorInAModal) {
+  ui.prompts.open_error = "bad.haptic:4:12: error: radius must be positive, found -0.1";
+  ui.prompts.open_error_requested = true;
+  const auto ok = locate("Could not open the spec", "OK");
+  ASSERT_TRUE(ok.has_value());
+  // The whole message is in the modal, wrapped, not cut: its window is wide enough.
+  ImGuiWindow* modal = nullptr;
+  for (ImGuiWindow* w : GImGui->Windows)
+    if (w->Active && std::string(w->Name).rfind("Could not open the spec", 0) == 0) modal = w;
+  ASSERT_NE(modal, nullptr);
+  EXPECT_GE(modal->ContentSize.x + 1,
+            std::min(ImGui::CalcTextSize(ui.prompts.open_error.c_str()).x,
+                     ImGui::GetFontSize() * 45 - modal->WindowPadding.x));
+  EXPECT_TRUE(click(*ok).empty());
+  EXPECT_TRUE(ui.prompts.open_error.empty());
+  EXPECT_FALSE(locate("Could not open the spec", "OK").has_value());
+}
+
+// The tutorial's step 2 by hand, from the view the editor opens on: import the bottle,
+// click "Add primitive: cylinder", Ctrl+drag a rectangle over the lower two thirds of
+// the bottle, click "Fit to box selection": radius 4.5 cm, height about 19 cm, axis up
+// (docs/editor.md). The selection is the surface seen in the rectangle, so neither the
+// bottom disc nor the back (cut higher by perspective) tilts or widens the fit.
+TEST_F(HeadlessPanels, TutorialBoxSelectionByHandFitsTheBody) {
+  doc = EditorDocument{};
+  ASSERT_TRUE(doc.apply(cmd::ImportMesh{
+      std::string(ANNEX_SOURCE_DIR) + "/samples/models/champagne_bottle.obj", ""}));
+  ASSERT_TRUE(doc.apply(cmd::EndEdit{}));
+  frame(ImVec2(-100, -100), false);
+  frame_all(doc, ui);
+  const auto add = locate("Inspector", "cylinder");
+  ASSERT_TRUE(add.has_value());
+  click(*add);
+  ASSERT_EQ(doc.spec().objects.at(0).primitives.size(), 1u);
+  ASSERT_EQ(doc.selection().primitive, 0);
+
+  // Where a person drags: a little outside the bottle's sides and below its foot, up to
+  // where the body meets the shoulder on the side facing them (19 cm, two thirds of 30).
+  const Rect& vp = ui.layout.viewport;
+  const glm::mat4 mvp = projection_matrix(ui.camera, vp.w / vp.h) * view_matrix(ui.camera) *
+                        place_objects(doc, ui)[0].model;
+  float left = 1e9f, right = -1e9f, bottom = -1e9f;
+  for (int k = 0; k < 72; ++k) {
+    const float t = 6.2831853f * k / 72;
+    for (float y : {0.f, 0.2f}) {
+      ImVec2 s;
+      ASSERT_TRUE(project(mvp, vp, glm::vec3(0.045f * std::cos(t), y, 0.045f * std::sin(t)), s));
+      left = std::min(left, s.x);
+      right = std::max(right, s.x);
+      bottom = std::max(bottom, s.y);
+    }
+  }
+  const glm::vec3 eye = camera_position(ui.camera);
+  const glm::vec3 toward = glm::normalize(glm::vec3(eye.x, 0, eye.z));
+  ImVec2 mark;
+  ASSERT_TRUE(project(mvp, vp, glm::vec3(0, 0.19f, 0) + toward * 0.045f, mark));
+  const ImVec2 from(left - 12, bottom + 12), to(right + 12, mark.y);
+  ASSERT_TRUE(vp.contains(from) && vp.contains(to));
+
+  ImGui::GetIO().KeyCtrl = true;
+  frame(from, false);
+  frame(from, true);
+  for (int i = 1; i <= 4; ++i)
+    frame(ImVec2(from.x + (to.x - from.x) * i / 4, from.y + (to.y - from.y) * i / 4), true);
+  frame(to, false);
+  ImGui::GetIO().KeyCtrl = false;
+  ASSERT_GT(ui.box_points.size(), 200u) << ui.status;
+
+  const std::string label =
+      "Fit to box selection (" + std::to_string(ui.box_points.size()) + " points)";
+  const auto fit = locate("Inspector", label.c_str());
+  ASSERT_TRUE(fit.has_value()) << label;
+  click(*fit);
+  const Primitive& body = doc.spec().objects.at(0).primitives.at(0);
+  std::printf("by hand: %zu points, radius %.2f cm, height %.2f cm, axis %.2f degrees off up\n",
+              ui.box_points.size(), body.dimensions[0].value_m * 100,
+              body.dimensions[1].value_m * 100,
+              std::acos(std::min(1.0, std::abs(body.pose.axis().y))) * 180 / 3.14159265);
+  EXPECT_EQ(body.kind, ShapeKind::cylinder);
+  EXPECT_NEAR(body.dimensions[0].value_m, 0.045, 0.0015);  // radius
+  EXPECT_NEAR(body.dimensions[1].value_m, 0.19, 0.012);    // height
+  EXPECT_GT(std::abs(body.pose.axis().y), std::cos(1.0 * 3.14159265 / 180));  // within 1 degree
+  EXPECT_NEAR(body.pose.position.x, 0, 0.002);
+  EXPECT_NEAR(body.pose.position.z, 0, 0.002);
 }
 
 }  // namespace

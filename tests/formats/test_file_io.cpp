@@ -78,7 +78,10 @@ TEST_F(FileIo, AtomicWriteFailureKeepsNothingBehind) {
   const fs::path p = dir_ / "missing-dir" / "a.txt";
   auto st = write_file_atomically(p, "x");
   ASSERT_FALSE(st.ok());
-  EXPECT_NE(st.error().message.find("cannot create"), std::string::npos) << st.error().message;
+  // The message names the file asked for, not the temporary beside it.
+  EXPECT_NE(st.error().message.find("cannot write '" + p.string() + "'"), std::string::npos)
+      << st.error().message;
+  EXPECT_EQ(st.error().message.find(".tmp-"), std::string::npos) << st.error().message;
   EXPECT_NE(st.error().message.find("No such file or directory"), std::string::npos);
   EXPECT_EQ(entries(), 0);
 

@@ -178,7 +178,7 @@ TEST(HapticFormat, InvalidInputsReportMessageLineAndColumn) {
       {"unknown object key", obj("  meshh x\n"), 3, 3,
        "unknown key 'meshh' in object 'a'; did you mean 'mesh'?"},
       {"unknown object key no suggestion", obj("  colour red\n"), 3, 3,
-       "unknown key 'colour' in object 'a'; expected one of: mesh, annexable, priority, "
+       "unknown key 'colour' in object 'a'; expected one of: mesh, annexable, priority, min_vote, "
        "primitive, end"},
       {"duplicate object key", obj("  annexable no\n  annexable no\n"), 4, 3,
        "duplicate key 'annexable' in object 'a' (first at line 3)"},

@@ -38,6 +38,7 @@ struct VirtualObject {
   bool annexable = true;     // false: always virtual-only, never matched
   double priority = 1.0;     // w_o in [0, 1]
   std::vector<Primitive> primitives;  // as authored; the Voter ranks them by w_s
+  double min_vote = 0.0;  // a prop voting less is never matched (docs/voting.md)
   bool operator==(const VirtualObject&) const = default;
 };
 

@@ -18,6 +18,9 @@ namespace annex {
 struct MatchParams {
   VoteParams vote;
   double min_vote = 0.0;  // pairs voting at or below this are never matched
+  // Pairs whose prop would need a dimension scaled beyond the primitive's scaling
+  // limits are never matched (off: such a prop is matched and the model drawn clamped).
+  bool within_limits = false;
 };
 
 struct MatchEntry {
@@ -36,6 +39,24 @@ struct MatchResult {
   // in `table`, to show what the rule prevented.
   std::vector<int> excluded_by;
 };
+
+// The scale each dimension of the voting primitive would need on that prop (physical /
+// virtual) and whether it lies within the primitive's limits. Empty without a vote.
+struct LimitCheck {
+  struct Need {
+    std::string dimension;
+    double scale = 1, min_scale = 1, max_scale = 1;
+  };
+  std::vector<Need> needs;
+  bool within = true;
+};
+LimitCheck check_limits(const VirtualObject& v, const VoteExplanation& e);
+
+// Why a pair may not be matched whatever the assignment: "" when it may, else e.g.
+// "votes 9.92, under mug's min_vote 20". Checked in this order: no shared shape, the
+// global threshold, the object's min_vote, the scaling limits (when asked for).
+std::string pair_rejection(const VirtualObject& v, const VoteExplanation& e,
+                           const MatchParams& params);
 
 // `taken` marks physical objects already annexed (they do not take part); `matched`
 // marks virtual objects that already have a prop (they do not vote). Either may be empty.
