@@ -124,12 +124,20 @@ OsdSceneScore score_osd_scene(const OsdScene& scene, const ScanResult& scan,
       sz += f.points[i].z;
       ++held[scene.object_of_pixel[i]];
     }
+    // The centre: the object's own pixel nearest to its points' mean projected to the
+    // image. An object seen as an L (a lower box around the one standing on it) has
+    // its mean on its neighbour; its nearest own pixel lies on itself.
     int centre_on = 0;
     if (!c.pixels.empty() && sz > 0) {
-      const int u = static_cast<int>(std::lround(k.fx * sx / sz + k.cx));
-      const int v = static_cast<int>(std::lround(k.fy * sy / sz + k.cy));
-      if (u >= 0 && v >= 0 && u < f.width && v < f.height)
-        centre_on = scene.object_of_pixel[static_cast<size_t>(v) * f.width + u];
+      const double u = k.fx * sx / sz + k.cx, v = k.fy * sy / sz + k.cy;
+      double best = 1e300;
+      for (int i : c.pixels) {
+        const double du = i % f.width - u, dv = i / f.width - v;
+        if (du * du + dv * dv < best) {
+          best = du * du + dv * dv;
+          centre_on = scene.object_of_pixel[i];
+        }
+      }
     }
     int big_shares = 0;
     for (const auto& [id, n] : held)
