@@ -9,6 +9,8 @@
 //  shapes   ObjectShapeRecognizer per cluster.
 #include "annex/runtime/scanner.h"
 
+#include "annex/runtime/object_segmenter.h"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <atomic>
@@ -632,14 +634,18 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
 
   t0 = Clock::now();
   std::vector<std::vector<int>> clusters;
-  for (const std::vector<int>& grid : grow_clusters(f, mask, seeds, stride, params)) {
-    if (static_cast<int>(grid.size()) * stride * stride < params.min_cluster_points / 2) continue;
-    if (params.drop_cut_clusters && continues_above(f, grid, stride, ps.plane, params)) continue;
-    std::vector<int> full = expand_cluster(f, grid, stride, ps.plane, params);
-    if (static_cast<int>(full.size()) < params.min_cluster_points ||
-        static_cast<int>(full.size()) > params.max_cluster_points)
-      continue;
-    clusters.push_back(std::move(full));
+  for (const std::vector<int>& whole : grow_clusters(f, mask, seeds, stride, params)) {
+    if (static_cast<int>(whole.size()) * stride * stride < params.min_cluster_points / 2) continue;
+    if (params.drop_cut_clusters && continues_above(f, whole, stride, ps.plane, params)) continue;
+    // Touching objects apart at the creases and depth steps between them.
+    for (const std::vector<int>& grid :
+         split_cluster(f, whole, stride, params.cluster_tolerance_m, params.segment)) {
+      std::vector<int> full = expand_cluster(f, grid, stride, ps.plane, params);
+      if (static_cast<int>(full.size()) < params.min_cluster_points ||
+          static_cast<int>(full.size()) > params.max_cluster_points)
+        continue;
+      clusters.push_back(std::move(full));
+    }
   }
   std::vector<int> label(f.points.size(), -1);
   for (size_t c = 0; c < clusters.size(); ++c)

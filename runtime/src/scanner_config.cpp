@@ -72,6 +72,15 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"shape_min_secondary_share", Kind::unit_share, &p.shape.min_secondary_share},
       {"shape_side_shape_penalty", Kind::unit_share, &p.shape.side_shape_penalty},
       {"shape_max_fit_points", Kind::whole, nullptr, &p.shape.max_fit_points, 50},
+      {"segment_enabled", Kind::flag, nullptr, nullptr, 0, &p.segment.enabled},
+      {"segment_arm_m", Kind::positive, &p.segment.arm_m},
+      {"segment_min_arm_px", Kind::positive, &p.segment.min_arm_px},
+      {"segment_max_chord_slope", Kind::positive, &p.segment.max_chord_slope},
+      {"segment_right_angle_depth_share", Kind::unit_share, &p.segment.right_angle_depth_share},
+      {"segment_min_crease_depth_m", Kind::positive, &p.segment.min_crease_depth_m},
+      {"segment_noise_factor", Kind::non_negative, &p.segment.noise_factor},
+      {"segment_min_object_points", Kind::whole, nullptr, &p.segment.min_object_points, 0},
+      {"segment_min_object_share", Kind::unit_share, &p.segment.min_object_share},
   };
   auto error = [&](std::string message, int line, int column) {
     return Error{std::move(message), {std::string(origin), line, column}};

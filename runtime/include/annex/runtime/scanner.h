@@ -16,6 +16,7 @@
 #include "annex/common/physical_scene.h"
 #include "annex/common/result.h"
 #include "annex/runtime/frame.h"
+#include "annex/runtime/object_segmenter.h"
 #include "annex/runtime/object_shape_recognizer.h"
 
 namespace annex {
@@ -66,6 +67,8 @@ struct ScanParams {
   // handle): it joins that object, which is fitted again. 0 disables.
   double part_margin_m = 0.015;
   double part_share = 0.6;
+  // Clusters split at concave creases and depth steps (object_segmenter.h).
+  SegmenterParams segment;
   ShapeRecognizerParams shape;
   // Worker threads for the per-cluster stages (smoothing, shapes); results do not
   // depend on it.

@@ -1,0 +1,195 @@
+// annex-eval-osd: the scanner on the OSD learning set (../shared/data/osd-learn, 45
+// labelled tabletop scenes), the figures of docs/perception.md "Clutter".
+//   recall     labelled objects found whole: one reported object whose centre (its
+//              pixel nearest to its points' mean projected to the label image) lies on
+//              the labelled object and which holds 0.5 to 1.6 times its labelled points;
+//   precision  reported objects that are whole labelled objects;
+//   fragments  reported objects centred on a labelled object with < 0.5x its points;
+//   merges     reported objects holding > 25 % of the points of two or more objects;
+//   shape      the salient primitive of each object found whole against the class the
+//              expectations table (bench/osd_expectations.txt) gives its label.
+// Per scene the scan time (median of --repeat runs) against the number of objects.
+// Usage: annex-eval-osd OSD_DIR [--expect FILE] [--config SCAN.conf] [--repeat N]
+//                       [--png-dir DIR] [--scenes FIRST-LAST] [--verbose]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "annex/runtime/depth_png.h"
+#include "osd_eval.h"
+#include "annex/runtime/scan_overlay.h"
+#include "annex/runtime/scanner.h"
+
+namespace {
+
+using namespace annex;
+using Clock = std::chrono::steady_clock;
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
+}
+
+struct Tally {
+  int labelled = 0, found = 0, reported = 0, whole = 0, fragments = 0, merges = 0;
+  int box_expected = 0, box_ok = 0, round_expected = 0, round_ok = 0;
+  int frustum_expected = 0, frustum_ok = 0;
+  void add(const OsdSceneScore& s) {
+    labelled += s.labelled;
+    found += s.found;
+    reported += s.reported;
+    whole += s.whole;
+    fragments += s.fragments;
+    merges += s.merges;
+    box_expected += s.box_expected;
+    box_ok += s.box_ok;
+    round_expected += s.cylinder_expected;
+    round_ok += s.cylinder_ok;
+    frustum_expected += s.frustum_expected;
+    frustum_ok += s.frustum_ok;
+  }
+};
+
+std::string pct(int a, int b) {
+  if (b == 0) return "    -";
+  char t[32];
+  std::snprintf(t, sizeof t, "%5.1f", 100.0 * a / b);
+  return t;
+}
+
+void print_row(const char* name, const Tally& t) {
+  std::printf("%-9s %4d %5d/%-3d %s  %5d/%-3d %s  %5d %6d   %2d/%-2d %s   %2d/%-2d %s   %2d/%-2d\n",
+              name, t.labelled, t.found, t.labelled, pct(t.found, t.labelled).c_str(), t.whole,
+              t.reported, pct(t.whole, t.reported).c_str(), t.fragments, t.merges, t.box_ok,
+              t.box_expected, pct(t.box_ok, t.box_expected).c_str(), t.round_ok,
+              t.round_expected, pct(t.round_ok, t.round_expected).c_str(), t.frustum_ok,
+              t.frustum_expected);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr,
+                 "usage: annex-eval-osd OSD_DIR [--expect FILE] [--config SCAN.conf] "
+                 "[--repeat N] [--png-dir DIR] [--scenes FIRST-LAST] [--verbose]\n");
+    return 2;
+  }
+  const std::filesystem::path dir = argv[1];
+  std::filesystem::path expect_path = ANNEX_BENCH_DIR "/osd_expectations.txt";
+  std::optional<std::filesystem::path> config, png_dir;
+  int repeat = 5, first = 0, last = 44;
+  bool verbose = false;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "annex-eval-osd: %s needs a value\n", a.c_str());
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (a == "--expect")
+      expect_path = next();
+    else if (a == "--config")
+      config = next();
+    else if (a == "--repeat")
+      repeat = std::max(1, std::atoi(next().c_str()));
+    else if (a == "--png-dir")
+      png_dir = next();
+    else if (a == "--scenes") {
+      const std::string r = next();
+      if (std::sscanf(r.c_str(), "%d-%d", &first, &last) != 2) {
+        std::fprintf(stderr, "annex-eval-osd: --scenes wants FIRST-LAST, got '%s'\n", r.c_str());
+        return 2;
+      }
+    } else if (a == "--verbose")
+      verbose = true;
+    else {
+      std::fprintf(stderr, "annex-eval-osd: unknown option '%s'\n", a.c_str());
+      return 2;
+    }
+  }
+  ScanParams params;
+  if (config) {
+    Result<ScanParams> p = read_scan_config_file(*config);
+    if (!p) {
+      std::fprintf(stderr, "%s\n", p.error().format().c_str());
+      return 2;
+    }
+    params = *p;
+  }
+  Result<OsdExpectations> expectations = read_osd_expectations_file(expect_path);
+  if (!expectations) {
+    std::fprintf(stderr, "%s\n", expectations.error().format().c_str());
+    return 2;
+  }
+  if (png_dir) std::filesystem::create_directories(*png_dir);
+
+  std::map<std::string, Tally> by_category;
+  Tally all;
+  std::map<int, std::vector<double>> ms_by_objects;
+  std::vector<double> all_ms;
+  for (int n = first; n <= last; ++n) {
+    const std::string name = "learn" + std::to_string(n);
+    Result<OsdScene> scene = read_osd_scene(dir, name);
+    if (!scene) {
+      std::fprintf(stderr, "%s\n", scene.error().format().c_str());
+      return 2;
+    }
+    std::vector<double> times;
+    Result<ScanResult> scan = Error{"not run", {}};
+    for (int r = 0; r < repeat; ++r) {
+      const auto t0 = Clock::now();
+      scan = scan_frame(scene->frame, params);
+      times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    }
+    const double ms = median(times);
+    OsdSceneScore score;
+    if (scan) {
+      score = score_osd_scene(*scene, *scan, *expectations);
+      if (png_dir) {
+        const Status s = write_png(*png_dir / (name + ".png"), draw_scan_overlay(scene->frame, *scan));
+        if (!s) std::fprintf(stderr, "%s\n", s.error().format().c_str());
+      }
+    } else {
+      score = score_osd_scene(*scene, ScanResult{}, *expectations);
+      std::printf("%s: scan failed: %s\n", name.c_str(), scan.error().format().c_str());
+    }
+    const std::string category = osd_category(n);
+    by_category[category].add(score);
+    all.add(score);
+    ms_by_objects[score.labelled].push_back(ms);
+    all_ms.push_back(ms);
+    std::printf("%-8s %-9s objects=%d found=%d reported=%d whole=%d fragments=%d merges=%d "
+                "shape_ok=%d/%d scan_ms=%.1f\n",
+                name.c_str(), category.c_str(), score.labelled, score.found, score.reported,
+                score.whole, score.fragments, score.merges,
+                score.box_ok + score.cylinder_ok + score.frustum_ok,
+                score.box_expected + score.cylinder_expected + score.frustum_expected, ms);
+    if (verbose)
+      for (const std::string& line : score.notes) std::printf("    %s\n", line.c_str());
+  }
+  std::printf("\ncategory  objs  recall       %%    precision    %%  frags merges  "
+              "box-as-box  %%   cyl-as-cyl %%   frustum\n");
+  for (const char* c : {"boxes", "stacked", "occluded", "round"})
+    if (by_category.count(c)) print_row(c, by_category[c]);
+  print_row("all", all);
+  std::printf("\nscan time against labelled objects (median over scenes of the per-scene median):\n");
+  for (const auto& [objects, ms] : ms_by_objects)
+    std::printf("  objects=%d scenes=%zu median_ms=%.1f max_ms=%.1f\n", objects, ms.size(),
+                median(ms), *std::max_element(ms.begin(), ms.end()));
+  std::printf("  all scenes=%zu median_ms=%.1f max_ms=%.1f\n", all_ms.size(), median(all_ms),
+              all_ms.empty() ? 0.0 : *std::max_element(all_ms.begin(), all_ms.end()));
+  return 0;
+}

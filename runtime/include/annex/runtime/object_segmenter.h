@@ -1,0 +1,57 @@
+#pragma once
+// Splitting a cluster into the objects it holds (docs/perception.md, Clutter). Objects
+// that touch (a cup against a box, a box standing on a box) are one Euclidean cluster;
+// between them the surface folds inwards. Household objects are convex, or convex
+// up to smooth hollows (a bowl's inside), so a sharp concave crease, and a depth step
+// where one object hides another, mark where one object ends.
+//   crease test  per grid pixel p and each of 4 image directions, the points a, b one
+//                arm length either side on the same cluster: a plane through a and b
+//                has 1/z linear in the image, so p's depth behind the plane's
+//                prediction, z_p - 2 / (1/z_a + 1/z_b), is 0 on a plane, negative on
+//                a convex surface and positive in a valley or behind a depth step.
+//                Above max(min_crease_depth_m, noise_factor * its Kinect noise) p is
+//                a crease pixel;
+//   regions      grow over non-crease pixels; crease pixels then join the nearest
+//                region; regions too small to be an object join the neighbour they
+//                share most border with (a mug's handle, a pot's handles).
+
+#include <vector>
+
+#include "annex/common/physical_scene.h"
+#include "annex/runtime/frame.h"
+
+namespace annex {
+
+// Every field is a scan config key `segment_<name>` (samples/config/scan.conf).
+struct SegmenterParams {
+  bool enabled = true;
+  // Half-width of the crease test: wide enough to see a crease's two flanks above the
+  // sensor noise, narrow enough that a bowl's curvature (depth k r^2 / 2) stays small.
+  double arm_m = 0.01;
+  // Far away the arm spans few pixels and the 3x3 means overlap: at least this many.
+  double min_arm_px = 4;
+  // Directions where the surface is seen within atan(1 / max_chord_slope) of the ray
+  // (11 degrees; the scanner's min_view_cos of 0.2 likewise leaves such points out of
+  // the fits) are not tested.
+  double max_chord_slope = 5;
+  // A right-angle crease is about this share of the arm deep (0.7 seen head-on, less
+  // obliquely); pixels whose threshold exceeds it are not tested.
+  double right_angle_depth_share = 0.5;
+  // A crease is at least this deep, and noise_factor times the noise of the test's
+  // depth (each of the three depths a 3x3 mean) at that range.
+  double min_crease_depth_m = 0.003;
+  double noise_factor = 3.0;
+  // A region with fewer full-resolution points than this (or this share of its
+  // cluster) is a part, not an object: it joins its biggest neighbour.
+  int min_object_points = 600;
+  double min_object_share = 0.08;
+};
+
+// One cluster on the strided grid (pixel indices into frame.points, every `step`-th
+// row and column) split into its objects; returns the cluster itself when it holds
+// one. `tolerance_m`: grid neighbours farther apart than this in 3D never join.
+std::vector<std::vector<int>> split_cluster(const Frame& frame, const std::vector<int>& grid_pixels,
+                                            int step, double tolerance_m,
+                                            const SegmenterParams& params = {});
+
+}  // namespace annex

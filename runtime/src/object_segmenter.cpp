@@ -1,0 +1,212 @@
+// Splitting clusters at concave creases and depth steps (object_segmenter.h).
+#include "annex/runtime/object_segmenter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+#include "annex/runtime/object_shape_recognizer.h"
+
+namespace annex {
+namespace {
+
+bool valid(const PointXYZRGB& p) { return std::isfinite(p.z) && p.z > 0; }
+
+// The cluster's grid pixels inside their bounding box, for O(1) membership.
+struct LocalGrid {
+  int step = 1, gx0 = 0, gy0 = 0, gw = 0, gh = 0, width = 0;
+  std::vector<int> slot;  // index into grid_pixels, -1 outside the cluster
+  int at(int x, int y) const {  // full-resolution pixel -> its grid pixel's slot
+    const int gx = x / step - gx0, gy = y / step - gy0;
+    if (x < 0 || y < 0 || gx < 0 || gy < 0 || gx >= gw || gy >= gh) return -1;
+    return slot[static_cast<size_t>(gy) * gw + gx];
+  }
+};
+
+int find_root(std::vector<int>& parent, int a) {
+  while (parent[a] != a) a = parent[a] = parent[parent[a]];
+  return a;
+}
+
+}  // namespace
+
+std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<int>& grid_pixels,
+                                            int step, double tolerance_m,
+                                            const SegmenterParams& params) {
+  if (!params.enabled || grid_pixels.size() < 8 || !f.organized()) return {grid_pixels};
+  step = std::max(1, step);
+  LocalGrid g;
+  g.step = step;
+  g.width = f.width;
+  int gx1 = 0, gy1 = 0;
+  g.gx0 = g.gy0 = 1 << 30;
+  for (int i : grid_pixels) {
+    const int gx = (i % f.width) / step, gy = (i / f.width) / step;
+    g.gx0 = std::min(g.gx0, gx);
+    g.gy0 = std::min(g.gy0, gy);
+    gx1 = std::max(gx1, gx);
+    gy1 = std::max(gy1, gy);
+  }
+  g.gw = gx1 - g.gx0 + 1;
+  g.gh = gy1 - g.gy0 + 1;
+  g.slot.assign(static_cast<size_t>(g.gw) * g.gh, -1);
+  const int n = static_cast<int>(grid_pixels.size());
+  for (int k = 0; k < n; ++k) {
+    const int i = grid_pixels[k];
+    g.slot[static_cast<size_t>((i / f.width) / step - g.gy0) * g.gw + (i % f.width) / step - g.gx0] = k;
+  }
+
+  // Mean inverse depth over the 3x3 pixels around (x, y) on the same surface (within
+  // 2 cm of the centre) and in the cluster; 0 when the centre is not usable.
+  auto inv_depth = [&](int x, int y) -> double {
+    if (x < 1 || y < 1 || x + 1 >= f.width || y + 1 >= f.height || g.at(x, y) < 0) return 0;
+    const PointXYZRGB& c = f.points[static_cast<size_t>(y) * f.width + x];
+    if (!valid(c)) return 0;
+    double sum = 0;
+    int count = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const PointXYZRGB& q = f.points[static_cast<size_t>(y + dy) * f.width + x + dx];
+        if (!valid(q) || std::abs(q.z - c.z) > 0.02f) continue;
+        sum += 1.0 / q.z;
+        ++count;
+      }
+    return sum / count;
+  };
+
+  // Crease pixels.
+  const double fx = CameraIntrinsics{}.fx * f.width / CameraIntrinsics{}.width;
+  std::vector<char> crease(n, 0);
+  const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+  for (int k = 0; k < n; ++k) {
+    const int i = grid_pixels[k], x = i % f.width, y = i / f.width;
+    const double ip = inv_depth(x, y);
+    if (ip <= 0) continue;
+    const double z = 1.0 / ip;
+    const double arm_px = std::max(params.min_arm_px, params.arm_m * fx / z);
+    // Each depth is a mean of up to 9 pixels: z_p - harmonic(z_a, z_b) has about
+    // sqrt(1.5) / 3 of one pixel's noise.
+    const double threshold =
+        std::max(params.min_crease_depth_m, params.noise_factor * 0.41 * kinect_sigma_z(z));
+    // Where even a right-angle crease would not stand out of the noise (beyond about
+    // 2 m on a Kinect) the test cannot tell: such pixels are never creases.
+    if (threshold > params.right_angle_depth_share * arm_px * z / fx) continue;
+    for (const auto& d : dirs) {
+      const double len = (d[0] != 0 && d[1] != 0) ? arm_px / std::sqrt(2.0) : arm_px;
+      const int r = std::max(1, static_cast<int>(std::lround(len)));
+      const double ia = inv_depth(x - d[0] * r, y - d[1] * r);
+      const double ib = inv_depth(x + d[0] * r, y + d[1] * r);
+      if (ia <= 0 || ib <= 0) continue;
+      // A surface seen edge-on (depth changing several times faster than the image
+      // position) is too noisy for the test; steps that steep exceed the tolerance.
+      const double span_m = 2 * r * std::hypot(d[0], d[1]) * z / fx;
+      if (std::abs(1.0 / ia - 1.0 / ib) > params.max_chord_slope * span_m) continue;
+      if (z - 2.0 / (ia + ib) > threshold) {
+        crease[k] = 1;
+        break;
+      }
+    }
+  }
+
+  // Grid neighbours within the 3D tolerance.
+  const double tol2 = tolerance_m * tolerance_m;
+  auto neighbours = [&](int k, auto&& visit) {
+    const int i = grid_pixels[k], x = i % f.width, y = i / f.width;
+    const PointXYZRGB& p = f.points[i];
+    // The 8 neighbours, as the scanner's clustering joins them (its +-1 grid window).
+    const int nb[8][2] = {{x - step, y}, {x + step, y}, {x, y - step}, {x, y + step},
+                          {x - step, y - step}, {x + step, y - step}, {x - step, y + step},
+                          {x + step, y + step}};
+    for (const auto& q : nb) {
+      const int m = g.at(q[0], q[1]);
+      if (m < 0) continue;
+      const PointXYZRGB& o = f.points[grid_pixels[m]];
+      const double dx = p.x - o.x, dy = p.y - o.y, dz = p.z - o.z;
+      if (dx * dx + dy * dy + dz * dz <= tol2) visit(m);
+    }
+  };
+
+  // Regions over non-crease pixels.
+  std::vector<int> region(n, -1);
+  int regions = 0;
+  std::vector<int> queue;
+  for (int s = 0; s < n; ++s) {
+    if (crease[s] || region[s] >= 0) continue;
+    queue.assign(1, s);
+    region[s] = regions;
+    for (size_t q = 0; q < queue.size(); ++q)
+      neighbours(queue[q], [&](int m) {
+        if (crease[m] || region[m] >= 0) return;
+        region[m] = regions;
+        queue.push_back(m);
+      });
+    ++regions;
+  }
+  // Crease pixels join the region that reaches them first (breadth first from every
+  // region at once); crease pixels no region reaches form regions of their own.
+  queue.clear();
+  for (int k = 0; k < n; ++k)
+    if (region[k] >= 0) queue.push_back(k);
+  for (size_t q = 0; q < queue.size(); ++q)
+    neighbours(queue[q], [&](int m) {
+      if (region[m] >= 0) return;
+      region[m] = region[queue[q]];
+      queue.push_back(m);
+    });
+  for (int s = 0; s < n; ++s) {
+    if (region[s] >= 0) continue;
+    queue.assign(1, s);
+    region[s] = regions;
+    for (size_t q = 0; q < queue.size(); ++q)
+      neighbours(queue[q], [&](int m) {
+        if (region[m] >= 0) return;
+        region[m] = regions;
+        queue.push_back(m);
+      });
+    ++regions;
+  }
+  if (regions <= 1) return {grid_pixels};
+
+  // Border lengths between regions, then small regions join their longest-bordering
+  // neighbour, smallest first.
+  std::vector<int> size(regions, 0);
+  for (int k = 0; k < n; ++k) ++size[region[k]];
+  std::map<std::pair<int, int>, int> border;
+  for (int k = 0; k < n; ++k)
+    neighbours(k, [&](int m) {
+      if (region[m] != region[k]) ++border[{region[k], region[m]}];
+    });
+  const double min_grid =
+      std::max(static_cast<double>(params.min_object_points),
+               params.min_object_share * n * step * step) /
+      (step * step);
+  std::vector<int> parent(regions);
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<int> order(regions);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return size[a] < size[b]; });
+  for (int r : order) {
+    const int root = find_root(parent, r);
+    if (size[root] >= min_grid) continue;
+    std::map<int, int> touching;
+    for (const auto& [pair, count] : border)
+      if (find_root(parent, pair.first) == root) {
+        const int other = find_root(parent, pair.second);
+        if (other != root) touching[other] += count;
+      }
+    if (touching.empty()) continue;
+    const int into = std::max_element(touching.begin(), touching.end(), [](const auto& a, const auto& b) {
+                       return a.second < b.second;
+                     })->first;
+    parent[root] = into;
+    size[into] += size[root];
+  }
+  std::map<int, std::vector<int>> groups;
+  for (int k = 0; k < n; ++k) groups[find_root(parent, region[k])].push_back(grid_pixels[k]);
+  std::vector<std::vector<int>> out;
+  for (auto& [root, pixels] : groups) out.push_back(std::move(pixels));
+  return out;
+}
+
+}  // namespace annex
