@@ -140,6 +140,7 @@ Status validate_session_params(const SessionParams& p) {
   c.range("threads", p.threads, 1, 64);
   c.non_negative("same_prop_m", p.same_prop_m);
   c.at_least("model_points", p.model_points, 10);
+  c.range("scan_nice", p.scan_nice, 0, 19);
   return c.status();
 }
 
