@@ -165,7 +165,7 @@ typedef struct annex_scan_params {
   double max_depth_m;          /**< farther points are ignored */
   double cluster_tolerance_m;  /**< neighbours closer than this join one object */
   int min_cluster_points;      /**< smaller clusters are dropped */
-  int threads;                 /**< worker threads of a scan (annex_scan only) */
+  int threads;                 /**< threads of one scan (a background session scans on one) */
 } annex_scan_params;
 
 ANNEX_API void annex_scan_params_init(annex_scan_params* params);
