@@ -129,7 +129,7 @@ struct AnnexSession::Workers {
   std::unique_ptr<ScanWorker> scanner;  // ScanMode::background only
   explicit Workers(const SessionParams& p)
       : trackers(p.threads),
-        scanner(p.scan_mode == ScanMode::background ? std::make_unique<ScanWorker>(p.scan)
+        scanner(p.scan_mode == ScanMode::background ? std::make_unique<ScanWorker>(p.scan, p.scan_nice)
                                                     : nullptr) {}
 };
 
@@ -255,7 +255,7 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
   ScanWorker* background = workers_->scanner.get();
   const bool start_background = scan_due && background && !background->busy();
   if (start_background) {
-    background->start(frame, frame_index);
+    background->stage(frame, frame_index);
     frames_since_scan_ = 0;
   }
   if (scan_now) {
@@ -432,6 +432,7 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
     return a.virtual_index < b.virtual_index;
   });
   report.objects = objects_;
+  if (background) background->go();
   report.times.total_ms = ms_since(t_frame);
   return report;
 }

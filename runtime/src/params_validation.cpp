@@ -53,7 +53,7 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   const double up = std::sqrt(p.up.x * p.up.x + p.up.y * p.up.y + p.up.z * p.up.z);
   if (!(up > 1e-9) || !std::isfinite(up)) c.fail("up", "must be a non-zero direction");
   c.range("camera_tilt_deg", p.camera_tilt_deg, -90, 90);
-  c.range("max_plane_angle_deg", p.max_plane_angle_deg, 0, 90, true);
+  c.range("max_plane_angle_deg", p.max_plane_angle_deg, 0, 90);
   c.positive("plane_distance_m", p.plane_distance_m);
   c.non_negative("plane_noise_factor", p.plane_noise_factor);
   c.at_least("plane_iterations", p.plane_iterations, 1);
@@ -69,7 +69,7 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.positive("cluster_tolerance_m", p.cluster_tolerance_m);
   c.at_least("cluster_window_px", p.cluster_window_px, 1);
   c.at_least("min_cluster_points", p.min_cluster_points, 1);
-  c.at_least("max_cluster_points", p.max_cluster_points, p.min_cluster_points);
+  c.at_least("max_cluster_points", p.max_cluster_points, 1);
   c.non_negative("mls_radius_m", p.mls_radius_m);
   c.at_least("mls_window_px", p.mls_window_px, 1);
   c.range("min_view_cos", p.min_view_cos, 0, 1);
@@ -137,9 +137,10 @@ Status validate_session_params(const SessionParams& p) {
   c.range("match.min_vote", p.match.min_vote, -INFINITY, INFINITY);
   c.at_least("scan_every", p.scan_every, 1);
   c.at_least("release_after_frames", p.release_after_frames, 1);
-  c.range("threads", p.threads, 1, 64);
+  c.at_least("threads", p.threads, 1);
   c.non_negative("same_prop_m", p.same_prop_m);
   c.at_least("model_points", p.model_points, 10);
+  c.range("scan_nice", p.scan_nice, 0, 19);
   return c.status();
 }
 

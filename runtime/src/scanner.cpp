@@ -22,6 +22,8 @@
 #include <random>
 #include <thread>
 
+#include "annex/runtime/params_validation.h"
+
 namespace annex {
 namespace {
 
@@ -549,6 +551,8 @@ void order_and_name_objects(ScanResult& result) {
 }
 
 Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
+  // Parameters set in code are checked like a config file's (params_validation.h).
+  if (Status s = validate_scan_params(params); !s) return s.error();
   if (input.width <= 0 || input.height <= 0 ||
       input.points.size() != static_cast<size_t>(input.width) * input.height)
     return Error{"frame size " + std::to_string(input.width) + "x" + std::to_string(input.height) +

@@ -13,6 +13,12 @@
 #include <thread>
 #include <vector>
 
+#if defined(__linux__)
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+#endif
+
 #include "annex/common/result.h"
 #include "annex/runtime/frame.h"
 #include "annex/runtime/scanner.h"
@@ -82,10 +88,21 @@ class WorkerPool {
 // goes on tracking; the finished result waits for the next process().
 class ScanWorker {
  public:
-  explicit ScanWorker(ScanParams params) : params_(std::move(params)) {
+  // `nice`: the worker's niceness on Linux (0 to 19), so that on a busy machine the
+  // threads of the render loop (the caller's and the trackers') come before the scan.
+  ScanWorker(ScanParams params, int nice) : params_(std::move(params)) {
     // The worker is the scan's only thread: the scanner creates none per frame.
     params_.threads = 1;
-    thread_ = std::thread([this] { loop(); });
+    thread_ = std::thread([this, nice] {
+#if defined(__linux__)
+      // Linux applies PRIO_PROCESS with a thread id to that thread alone. Failure (a
+      // sandbox forbidding it) only leaves the default priority.
+      if (nice > 0) (void)setpriority(PRIO_PROCESS, static_cast<id_t>(::syscall(SYS_gettid)), nice);
+#else
+      (void)nice;
+#endif
+      loop();
+    });
   }
   ~ScanWorker() {
     {
@@ -95,19 +112,26 @@ class ScanWorker {
     wake_.notify_all();
     thread_.join();
   }
-  bool busy() const { return in_flight_; }
+  bool busy() const { return in_flight_ || staged_; }
   bool ready() const { return in_flight_ && done_.load(std::memory_order_acquire); }
   // Copies the frame (the caller's may be gone before the scan ends); the buffer is
-  // reused, so a 640x480 copy allocates nothing after the first.
-  void start(const Frame& frame, int frame_index) {
+  // reused, so a 640x480 copy allocates nothing after the first. The scan starts at
+  // go(): the session calls it when the frame's tracking is done, so a scan never
+  // competes with the tracking of the frame it was taken from.
+  void stage(const Frame& frame, int frame_index) {
+    frame_.width = frame.width;
+    frame_.height = frame.height;
+    frame_.timestamp_s = frame.timestamp_s;
+    frame_.index = frame.index;
+    frame_.points.assign(frame.points.begin(), frame.points.end());
+    frame_index_ = frame_index;
+    staged_ = true;
+  }
+  void go() {
+    if (!staged_) return;
+    staged_ = false;
     {
       std::lock_guard lock(mutex_);
-      frame_.width = frame.width;
-      frame_.height = frame.height;
-      frame_.timestamp_s = frame.timestamp_s;
-      frame_.index = frame.index;
-      frame_index_ = frame_index;
-      frame_.points.assign(frame.points.begin(), frame.points.end());
       done_ = false;
       has_job_ = true;
     }
@@ -161,7 +185,7 @@ class ScanWorker {
   int frame_index_ = 0;
   bool has_job_ = false, stop_ = false;
   std::atomic<bool> done_{false};
-  bool in_flight_ = false;  // session thread only
+  bool in_flight_ = false, staged_ = false;  // session thread only
   std::thread thread_;
 };
 

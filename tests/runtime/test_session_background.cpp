@@ -1,6 +1,6 @@
 // AnnexSession for render loops: ScanMode::background (the scan runs on the session's
 // worker and applies a frame later, with the same matches as a same-frame scan), the
-// parameter checks at creation, known camera intrinsics.
+// parameter checks at creation (and in scan_frame), known camera intrinsics.
 #include <gtest/gtest.h>
 
 #include <stdexcept>
@@ -101,6 +101,12 @@ TEST(SessionBackground, ParamsAreCheckedAtCreation) {
   params.camera = CameraIntrinsics{640, 480, 525, 525, 900, 239.5};
   EXPECT_NE(validate_session_params(params).error().message.find("SessionParams.camera.cx"),
             std::string::npos);
+  // scan_frame checks the parameters set in code too, before looking at the frame.
+  ScanParams scan;
+  scan.cluster_tolerance_m = -0.02;
+  const Result<ScanResult> r = scan_frame(render_scene(make_scene(31), {}, 0).frame, scan);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message, "ScanParams.cluster_tolerance_m must be greater than 0, got -0.02");
   EXPECT_TRUE(validate_session_params({}).ok());
   EXPECT_TRUE(validate_scan_params({}).ok());
   EXPECT_TRUE(validate_tracker_params({}).ok());

@@ -27,9 +27,9 @@
 ///
 /// Threading
 /// - Different handles may be used from different threads at the same time.
-/// - annex_spec, annex_scene and annex_match handles never change after creation: any
-///   number of threads may read them (and create sessions, scans or matches from them)
-///   at once.
+/// - annex_spec, annex_frame, annex_scene and annex_match handles never change after
+///   creation: any number of threads may read them (push one frame to several sessions,
+///   create sessions, scans or matches from one spec) at once.
 /// - An annex_session or annex_scanner must not be used by two threads at once: calls
 ///   on one session (push, objects, events, frame info) are made from one thread, or
 ///   the caller serialises them. The session runs its own worker threads, created by
@@ -165,7 +165,7 @@ typedef struct annex_scan_params {
   double max_depth_m;          /**< farther points are ignored */
   double cluster_tolerance_m;  /**< neighbours closer than this join one object */
   int min_cluster_points;      /**< smaller clusters are dropped */
-  int threads;                 /**< worker threads of a scan (annex_scan only) */
+  int threads;                 /**< threads of one scan (a background session scans on one) */
 } annex_scan_params;
 
 ANNEX_API void annex_scan_params_init(annex_scan_params* params);

@@ -39,6 +39,9 @@ struct SessionParams {
   double same_prop_m = 0.06;      // a scanned object this close to a tracked one is that prop
   int model_points = 600;         // source model size per object
   ScanMode scan_mode = ScanMode::same_frame;
+  // background: the scan worker's niceness (Linux, 0 to 19). A scan is background work:
+  // on a busy machine the render loop's threads come first and the scan applies later.
+  int scan_nice = 10;
   // The depth camera's intrinsics when known; otherwise they are estimated from the
   // first organized frame (until then a tracker's target cube is cut by a full scan).
   std::optional<CameraIntrinsics> camera;
