@@ -158,7 +158,8 @@ FrameReport AnnexSession::process(const Frame& frame) {
 
   // The head's motion since the last frame: what is remembered in sensor coordinates
   // (the support, the last scan's objects) moves with it.
-  if (params_.camera_motion && camera_ && static_scene_) {
+  // (Only while something is tracked: before the first match every frame is scanned.)
+  if (params_.camera_motion && camera_ && static_scene_ && !objects_.empty()) {
     const CameraMotionResult m =
         estimate_camera_motion(*static_scene_, frame, *camera_, camera_motion_, params_.camera);
     report.camera_motion_ok = m.ok;
@@ -205,11 +206,11 @@ FrameReport AnnexSession::process(const Frame& frame) {
   }
   pool.join();
   report.times.track_ms = ms_since(t_track);
-  for (size_t i = 0; i < objects_.size(); ++i) objects_[i].track = std::move(tracked[i]);
   // This frame's static scene, for the next frame's camera motion.
   if (params_.camera_motion && camera_)
     static_scene_ = std::make_shared<const TrackingModel>(
         static_scene_model(frame, *camera_, moving_props(tracked, params_.camera), params_.camera));
+  for (size_t i = 0; i < objects_.size(); ++i) objects_[i].track = std::move(tracked[i]);
 
   // Release props lost for too long: their virtual objects vote again.
   std::erase_if(objects_, [&](const AnnexedObject& o) {
