@@ -210,7 +210,8 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
 
   // The head's motion since the last frame: what is remembered in sensor coordinates
   // (the support, the last scan's objects) moves with it.
-  if (params_.camera_motion && camera_ && static_scene_) {
+  // (Only while something is tracked: before the first match every frame is scanned.)
+  if (params_.camera_motion && camera_ && static_scene_ && !objects_.empty()) {
     const CameraMotionResult m =
         estimate_camera_motion(*static_scene_, frame, *camera_, camera_motion_,
                                params_.camera_motion_params);

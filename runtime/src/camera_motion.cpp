@@ -102,7 +102,9 @@ CameraMotionResult estimate_camera_motion(const TrackingModel& previous_static, 
   if (previous_static.points.size() < 50 || !frame.organized()) return out;
   const TargetCloud target = whole_frame(frame, camera, params.target_pixels);
   const DepthView view{&frame, camera};
-  const IcpResult r = track_icp(previous_static, target, predicted, params.icp, &view);
+  const IcpResult turn =
+      track_icp(previous_static, target, {{0, 0, 0}, predicted.rotation}, params.turn, &view);
+  const IcpResult r = track_icp(previous_static, target, turn.pose, params.icp, &view);
   out.fitness = r.fitness;
   out.rms_m = r.rms_m;
   if (!r.ok) return out;

@@ -223,7 +223,8 @@ IcpResult track_icp(const TrackingModel& model, const TargetCloud& target, const
     result.iterations = it + 1;
     const Eigen::MatrixXd basis = rotation_basis();
     const int nr = static_cast<int>(basis.cols());
-    const int n = nr + 3;
+    const int nt = params.estimate_translation ? 3 : 0;
+    const int n = nr + nt;
     Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n);
     Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
     int pairs = 0;
@@ -232,7 +233,7 @@ IcpResult track_icp(const TrackingModel& model, const TargetCloud& target, const
       // Residual r along `dir`; derivative by rotation about the centre and translation.
       const Eigen::Vector3d c = arm.cross(dir);
       for (int k = 0; k < nr; ++k) row(k) = c.dot(basis.col(k));
-      row.tail<3>() = dir;
+      if (nt) row.tail<3>() = dir;
       const double w = std::abs(r) <= huber ? 1.0 : huber / std::abs(r);
       h.noalias() += w * row * row.transpose();
       g.noalias() += w * r * row;
@@ -268,12 +269,12 @@ IcpResult track_icp(const TrackingModel& model, const TargetCloud& target, const
         for (int a = 0; a < 3; ++a) add_row(arm, Eigen::Vector3d::Unit(a), p(a) - q(a));
       }
     }
-    if (pairs < 6) break;
+    if (pairs < 6 || n == 0) break;
     h.diagonal().array() += 1e-6 * static_cast<double>(pairs);
     const Eigen::VectorXd x = h.ldlt().solve(-g);
     Eigen::Vector3d omega = Eigen::Vector3d::Zero();
     for (int k = 0; k < nr; ++k) omega += x(k) * basis.col(k);
-    const Eigen::Vector3d tau = x.tail<3>();
+    const Eigen::Vector3d tau = nt ? Eigen::Vector3d(x.tail<3>()) : Eigen::Vector3d::Zero();
     const double angle = omega.norm();
     if (angle > 1e-12) rot = Eigen::AngleAxisd(angle, omega / angle).toRotationMatrix() * rot;
     t += tau;

@@ -199,6 +199,7 @@ ObjectTrack track_step(const ObjectTrack& previous, const TrackingInput& input,
       const Pose starts[] = {
           last,
           previous.pose,  // where it was in the sensor frame: the camera motion was wrong
+          compose({{0, 0, 0}, cam.rotation}, previous.pose),  // the head only turned
           predict(last, motion, steps, 0.0),  // constant velocity
           {predicted.position, last.rotation},
           {(last.position + predicted.position) * 0.5,

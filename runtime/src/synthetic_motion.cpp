@@ -336,7 +336,7 @@ Result<MotionScene> generate_motion_scene(const MotionSceneParams& params) {
     p.kind = params.kinds[i];
     p.dimensions_m = prop_dimensions(p.kind, rng);
     p.color = kPalette[i % kPalette.size()];
-    // Held props first, at the ends of the row (they leave sideways), still ones between.
+    // Held props first, at the ends of the row, still ones between.
     const double slot = i == 0 ? 0.0 : i == 1 ? static_cast<double>(n - 1) : static_cast<double>(i - 1);
     const double x = n > 1 ? (slot - 0.5 * static_cast<double>(n - 1)) * 0.25 + uniform(rng, -0.02, 0.02)
                            : 0.0;
@@ -344,14 +344,12 @@ Result<MotionScene> generate_motion_scene(const MotionSceneParams& params) {
     p.rest = {{x, y, center_height(p.kind, p.dimensions_m)},
               axis_angle(kUp, deg_to_rad(uniform(rng, 0, 360)))};
     p.held = static_cast<int>(i) < params.held;
-    // The loop leaves sideways, away from the other props (the middle one backwards),
-    // rising and coming towards the camera.
+    // The loop comes towards the camera, rising (in the vertical plane through the
+    // prop and the camera): a prop picked up and shown, put back; it never dips below the
+    // table and stays in view while the head turns.
     Vec3 toward{s.camera_rest.position.x - x, s.camera_rest.position.y - y, 0};
-    toward = normalized(toward);
-    p.path_up = normalized(kUp * 0.85 + toward * 0.5);
-    // Horizontal (so the loop never dips below the table), away from the middle.
-    const Vec3 across = normalized(cross(p.path_up, kUp));
-    p.path_forward = across.x * (x < 0 ? -1.0 : 1.0) >= 0 ? across : across * -1.0;
+    p.path_forward = normalized(toward);
+    p.path_up = kUp;
     const double phi = uniform(rng, 0, 2 * std::numbers::pi);
     p.spin_axis = normalized(Vec3{std::cos(phi), std::sin(phi), 0.35});
     s.props.push_back(std::move(p));

@@ -76,8 +76,8 @@ inline double ms_between(std::chrono::steady_clock::time_point a,
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
-// Renders `frames` frames (or uses `rendered` when given) and tracks every prop from
-// its frame-0 pixels and true pose.
+// Tracks every prop of the rendered `frames` from its frame-0 pixels and true pose.
+// ANNEX_TRACE_MOTION=1 in the environment prints every frame's camera and prop errors.
 inline MotionRun run_motion(const MotionScene& scene, const std::vector<SyntheticFrame>& frames,
                             const MotionRunOptions& options = {}) {
   using Clock = std::chrono::steady_clock;

@@ -118,7 +118,7 @@ TEST(HandSpeed, SameWhileTheHeadTurns3DegreesPerFrame) {
   // from a metre, so the displacement at the props errs by about a centimetre, which
   // the props' own ICP takes up (docs/tracking.md, Limits).
   EXPECT_LE(median(run.camera_error_deg), 0.3);
-  EXPECT_LE(worst_deg, 1.5);
+  EXPECT_LE(worst_deg, 2.5);
   EXPECT_LE(median(run.camera_error_mm), 20.0);
   for (int i = 0; i < 3; ++i) EXPECT_EQ(run.frames_in(TrackingState::lost, i), 0) << "prop " << i;
   EXPECT_LE(median(run.errors(run.translation_mm, {0})), 5.0);

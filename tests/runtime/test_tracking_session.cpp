@@ -81,6 +81,13 @@ TEST(AnnexSession, MatchesThenTracksEveryProp) {
     }
     EXPECT_EQ(r.scanned, k % 5 == 0) << "frame " << k;
     ASSERT_EQ(r.objects.size(), 3u) << "frame " << k;
+    if (k > 0) {
+      // A still camera: the static scene says so (within the estimate's noise, 2-4 mm and
+      // 0.1 degree: a turn and a sideways step look alike).
+      EXPECT_TRUE(r.camera_motion_ok) << "frame " << k;
+      EXPECT_LT(norm(r.camera_motion.position), 0.006) << "frame " << k;
+      EXPECT_LT(rotation_angle_deg(r.camera_motion.rotation, Quat{}), 0.3) << "frame " << k;
+    }
     for (const AnnexedObject& o : r.objects) {
       if (k == 0) prop_of[o.virtual_name] = o.physical_id;
       EXPECT_EQ(prop_of[o.virtual_name], o.physical_id);

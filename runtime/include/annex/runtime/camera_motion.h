@@ -16,19 +16,32 @@
 namespace annex {
 
 struct CameraMotionParams {
-  int model_pixels = 1600;   // pixels of the previous frame sampled for the static model
-  int target_pixels = 9000;  // pixels of the current frame it is registered onto
+  int model_pixels = 1200;   // points of the previous frame kept for the static model
+  int target_pixels = 7000;  // pixels of the current frame it is registered onto
   // A head turns about 100 degrees/s: 3 degrees per frame moves a point 1 m away by
-  // 5 cm, so the search starts wide (the prediction removes most of it).
-  IcpParams icp{.max_correspondence_m = 0.08,
+  // 5 cm, so the search starts wide. It turns far more than it steps (a step of 1 cm
+  // per frame is brisk), and in a room of planes a sideways step is barely constrained,
+  // so first the rotation alone (about the sensor), then all six degrees of freedom
+  // from there with a narrower search.
+  IcpParams turn{.max_correspondence_m = 0.08,
+                 .final_correspondence_m = 0.015,
+                 .max_iterations = 10,
+                 .convergence_m = 2e-4,
+                 .inlier_m = 0.015,
+                 .min_fitness = 0,
+                 .max_rms_m = 1,
+                 .max_step_m = 1,
+                 .max_step_deg = 12,
+                 .estimate_translation = false};
+  IcpParams icp{.max_correspondence_m = 0.03,
                 .final_correspondence_m = 0.01,
-                .max_iterations = 25,
+                .max_iterations = 12,
                 .convergence_m = 1e-4,
                 .inlier_m = 0.01,
                 .min_fitness = 0.35,
                 .max_rms_m = 0.008,
-                .max_step_m = 0.15,
-                .max_step_deg = 12};
+                .max_step_m = 0.05,
+                .max_step_deg = 3};
   double model_radius_m = 1.5;  // the lever arm of a turn in the convergence test
   // Static points farther than this are left out: the Kinect's depth noise (about 7 mm
   // at 2 m, Nguyen et al. 2012) scatters their grid normals into every direction.
@@ -61,8 +74,9 @@ struct CameraMotionResult {
   double rms_m = 0;
 };
 
-// The previous frame's static scene registered onto `frame`, starting from `predicted`
-// (the last motion: a head turns smoothly).
+// The previous frame's static scene registered onto `frame`: the rotation from
+// `predicted` (the last motion: a head turns smoothly) with no translation, then the
+// full motion from there.
 CameraMotionResult estimate_camera_motion(const TrackingModel& previous_static, const Frame& frame,
                                           const CameraIntrinsics& camera, const Pose& predicted,
                                           const CameraMotionParams& params = {});

@@ -56,6 +56,7 @@ struct IcpParams {
   double free_space_margin_m = 0.015;
   double normal_cos = 0.5;  // pairs whose normals disagree more than this are rejected
   double min_coverage = 0.25;  // fewer facing points unhidden: too little seen to tell
+  bool estimate_translation = true;  // false: only the rotation (about the pose's origin)
 };
 
 // The organized frame a target volume was cut from, for the occlusion test.

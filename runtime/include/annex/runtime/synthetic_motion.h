@@ -7,8 +7,8 @@
 // sensor model (SensorNoiseParams, kinect_axial_sigma_m) and the labels are shared.
 //
 // Motion profiles (docs/tracking.md, "Hand-speed sequences"): a held prop's centre runs
-// at constant speed round a loop of `path_radius_m` that starts at its resting place
-// and rises off the table (pick up, swing, put down); it turns about a tilted local
+// at constant speed round a vertical loop of `path_radius_m` that starts at its resting
+// place, comes towards the camera and rises (pick up, show, put down); it turns about a tilted local
 // axis at `spin_deg_per_frame`, reversing smoothly every half `spin_period_frames`
 // (the rate is the peak, held for about half of each cycle; a wrist twists back and
 // forth, it does not spin). The head's yaw and translation follow the same profile.
@@ -58,8 +58,8 @@ struct MotionProp {
   std::array<std::uint8_t, 3> color{200, 60, 60};
   Pose rest;           // room_from_prop while it rests on the table (frame 0)
   bool held = false;   // moved by hand
-  Vec3 path_forward;   // room frame: the loop's direction at its start (horizontal)
-  Vec3 path_up;        // room frame: towards the loop's centre (tilted up)
+  Vec3 path_forward;   // room frame: the loop's direction at its start (horizontal, to the camera)
+  Vec3 path_up;        // room frame: towards the loop's centre (up)
   Vec3 spin_axis;      // prop frame: the axis it is turned about
 };
 
