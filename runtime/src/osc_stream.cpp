@@ -337,10 +337,18 @@ Result<OscListener> OscListener::open(std::string_view text) {
 int OscListener::port() const { return lo_server_get_port(impl_->server.handle); }
 
 std::vector<OscCommand> OscListener::poll(std::vector<std::string>* warnings) {
-  // Every datagram already queued, without blocking.
-  while (lo_server_recv_noblock(impl_->server.handle, 0) > 0) {
-  }
+  // The datagrams already queued, without blocking (at most kMaxPerPoll, so a flood
+  // cannot hold up the frame loop).
+  constexpr int kMaxPerPoll = 1000;
   Inbox& inbox = impl_->inbox;
+  g_lo_error.clear();
+  for (int n = 0; n < kMaxPerPoll && lo_server_recv_noblock(impl_->server.handle, 0) > 0; ++n) {
+    if (!g_lo_error.empty()) {  // liblo's handler saw a malformed packet
+      inbox.warnings.push_back("ignored a malformed OSC packet: " + g_lo_error);
+      g_lo_error.clear();
+    }
+  }
+  if (!g_lo_error.empty()) inbox.warnings.push_back("ignored a malformed OSC packet: " + g_lo_error);
   std::vector<OscCommand> out = std::move(inbox.pending);
   inbox.pending.clear();
   if (warnings)

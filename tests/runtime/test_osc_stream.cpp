@@ -273,9 +273,19 @@ TEST(OscListener, ReceivesExcludeAndRescanFromOscsend) {
   ASSERT_TRUE(oscsend(port, "/annex/rescan", ""));
   ASSERT_TRUE(oscsend(port, "/annex/exclude", "i 3"));
   ASSERT_TRUE(oscsend(port, "/annex/teleport", "s p1"));
+  {  // Not OSC at all.
+    const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    a.sin_port = htons(static_cast<std::uint16_t>(port));
+    const char junk[] = "not an OSC packet";
+    sendto(fd, junk, sizeof junk, 0, reinterpret_cast<sockaddr*>(&a), sizeof a);
+    close(fd);
+  }
   std::vector<OscCommand> commands;
   std::vector<std::string> warnings;
-  for (int i = 0; i < 200 && commands.size() + warnings.size() < 4; ++i) {
+  for (int i = 0; i < 200 && commands.size() + warnings.size() < 5; ++i) {
     for (OscCommand& c : listener->poll(&warnings)) commands.push_back(std::move(c));
     std::this_thread::sleep_for(10ms);
   }
@@ -283,11 +293,13 @@ TEST(OscListener, ReceivesExcludeAndRescanFromOscsend) {
   EXPECT_EQ(commands[0].kind, OscCommand::Kind::exclude);
   EXPECT_EQ(commands[0].physical_id, "p3");
   EXPECT_EQ(commands[1].kind, OscCommand::Kind::rescan);
-  ASSERT_EQ(warnings.size(), 2u);
+  ASSERT_EQ(warnings.size(), 3u);
   EXPECT_NE(warnings[0].find("/annex/exclude ,i 3 (expects one string argument"),
             std::string::npos)
       << warnings[0];
   EXPECT_NE(warnings[1].find("/annex/teleport"), std::string::npos) << warnings[1];
+  EXPECT_NE(warnings[2].find("ignored a malformed OSC packet"), std::string::npos)
+      << warnings[2];
   // The port is taken now: a second listener says so.
   const Result<OscListener> again = OscListener::open("osc.udp://:" + std::to_string(port));
   ASSERT_FALSE(again.ok());
