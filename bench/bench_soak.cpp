@@ -133,8 +133,8 @@ int main(int argc, char** argv) {
       s.annexed = static_cast<int>(r.objects.size());
       s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       samples.push_back(s);
-      std::printf("%8ld %10ld %10ld %8ld %6ld %8d %8.1f\n", s.frame, s.rss_kb, s.peak_kb,
-                  s.threads, s.fds, s.annexed, s.seconds);
+      std::printf("%8ld %10ld %10ld %8ld %6ld %8d %8.1f\n", s.frame, s.rss_kb, s.peak_kb, s.threads,
+                  s.fds, s.annexed, s.seconds);
       std::fflush(stdout);
     }
   }
