@@ -1,17 +1,21 @@
 // annex-bench-soak: a long run through the session (docs/reliability.md, Soak). The
 // bundled recording loops forwards and backwards through AnnexSession, each frame
-// streamed over OSC to a listener in the same process; every --every frames the
+// streamed over OSC to a listener in the same process. Every --blackout-every frames
+// the last 60 are all-NaN (a covered sensor), so every prop is lost, released and
+// annexed again: tracks are created and dropped all along. Every --every frames the
 // process's resident memory (VmRSS, and its peak VmHWM), threads and open files are
 // sampled. After the warm-up the peak may grow by at most --rss-tolerance (5 %) and
 // the threads and files not at all; the exit status says whether they held.
 //
 //   annex-bench-soak [--frames 20000] [--warmup 1000] [--every 1000] [--rss-tolerance 0.05]
+//                    [--blackout-every 1000] (0: none)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -62,6 +66,8 @@ int main(int argc, char** argv) {
   const long total = arg(argc, argv, "--frames", 20000);
   const long warmup = arg(argc, argv, "--warmup", 1000);
   const long every = std::max(1L, arg(argc, argv, "--every", 1000));
+  const long blackout_every = arg(argc, argv, "--blackout-every", 1000);
+  constexpr long kBlackout = 60;  // > release_after_frames (45): every prop is released
   double tolerance = 0.05;
   for (int i = 1; i + 1 < argc; ++i)
     if (std::string(argv[i]) == "--rss-tolerance") tolerance = std::strtod(argv[i + 1], nullptr);
@@ -109,6 +115,8 @@ int main(int argc, char** argv) {
     Frame frame = recording[static_cast<size_t>(cycle < n ? cycle : 2 * n - 2 - cycle)];
     frame.index = static_cast<int>(k);
     frame.timestamp_s = k / 30.0;
+    if (blackout_every > kBlackout && k % blackout_every >= blackout_every - kBlackout)
+      for (PointXYZRGB& p : frame.points) p.x = p.y = p.z = std::numeric_limits<float>::quiet_NaN();
     const FrameReport r = session.process(frame);
     releases += static_cast<long>(r.released.size());
     for (const AnnexedObject& o : r.objects) matches += o.matched_frame == frame.index;
@@ -125,8 +133,8 @@ int main(int argc, char** argv) {
       s.annexed = static_cast<int>(r.objects.size());
       s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       samples.push_back(s);
-      std::printf("%8ld %10ld %10ld %8ld %6ld %8d %8.1f\n", s.frame, s.rss_kb, s.peak_kb,
-                  s.threads, s.fds, s.annexed, s.seconds);
+      std::printf("%8ld %10ld %10ld %8ld %6ld %8d %8.1f\n", s.frame, s.rss_kb, s.peak_kb, s.threads,
+                  s.fds, s.annexed, s.seconds);
       std::fflush(stdout);
     }
   }

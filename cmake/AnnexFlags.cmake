@@ -4,7 +4,12 @@ add_library(annex_flags INTERFACE)
 add_library(annex::flags ALIAS annex_flags)
 target_compile_options(annex_flags INTERFACE -Wall -Wextra)
 
-if(ANNEX_SANITIZE)
+# ANNEX_SANITIZE=thread: ThreadSanitizer (trackers on a pool, PNGs on a second thread);
+# any other true value: AddressSanitizer + UndefinedBehaviorSanitizer.
+if(ANNEX_SANITIZE STREQUAL "thread")
+  target_compile_options(annex_flags INTERFACE -fsanitize=thread -fno-omit-frame-pointer)
+  target_link_options(annex_flags INTERFACE -fsanitize=thread)
+elseif(ANNEX_SANITIZE)
   target_compile_options(annex_flags INTERFACE
     -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   target_link_options(annex_flags INTERFACE -fsanitize=address,undefined)
@@ -12,6 +17,7 @@ endif()
 
 # libFuzzer exists only in clang.
 set(ANNEX_CAN_FUZZ OFF)
-if(ANNEX_FUZZ AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+# (Not under ThreadSanitizer: the fuzz targets carry AddressSanitizer.)
+if(ANNEX_FUZZ AND CMAKE_CXX_COMPILER_ID MATCHES "Clang" AND NOT ANNEX_SANITIZE STREQUAL "thread")
   set(ANNEX_CAN_FUZZ ON)
 endif()

@@ -14,11 +14,15 @@ double half_extent(const PhysicalPrimitive& p, Vec3 u) {
   const double c = std::min(1.0, std::abs(dot(axis, u)));
   const double s = std::sqrt(std::max(0.0, 1 - c * c));
   switch (p.kind) {
-    case ShapeKind::sphere: return dim(0);
+    case ShapeKind::sphere:
+      return dim(0);
     case ShapeKind::cylinder:
-    case ShapeKind::cone: return c * dim(1) / 2 + s * dim(0);
-    case ShapeKind::torus: return c * dim(1) + s * (dim(0) + dim(1));
-    case ShapeKind::box: return c * dim(2) / 2 + s * std::hypot(dim(0), dim(1)) / 2;
+    case ShapeKind::cone:
+      return c * dim(1) / 2 + s * dim(0);
+    case ShapeKind::torus:
+      return c * dim(1) + s * (dim(0) + dim(1));
+    case ShapeKind::box:
+      return c * dim(2) / 2 + s * std::hypot(dim(0), dim(1)) / 2;
   }
   return 0;
 }
@@ -54,8 +58,8 @@ double prop_height_m(const PhysicalObject& object, const std::optional<Plane>& s
       top = std::max(top, dot(n, p.center) + support->d + half_extent(p, n));
     return std::max(0.0, top);
   }
-  const Vec3 up = norm(object.primitives[0].axis) > 0 ? normalized(object.primitives[0].axis)
-                                                      : Vec3{0, 0, 1};
+  const Vec3 up =
+      norm(object.primitives[0].axis) > 0 ? normalized(object.primitives[0].axis) : Vec3{0, 0, 1};
   double lo = 1e300, hi = -1e300;
   for (const PhysicalPrimitive& p : object.primitives) {
     const double c = dot(up, p.center), h = half_extent(p, up);

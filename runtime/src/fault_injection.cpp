@@ -61,8 +61,7 @@ class FaultInjectingGrabber final : public FrameGrabber {
     Frame frame = std::move(**next);
     if (active(FaultKind::half_resolution)) frame = half_resolution(frame);
     if (active(FaultKind::invalid))
-      for (PointXYZRGB& p : frame.points)
-        p.x = p.y = p.z = std::numeric_limits<float>::quiet_NaN();
+      for (PointXYZRGB& p : frame.points) p.x = p.y = p.z = std::numeric_limits<float>::quiet_NaN();
     return std::optional<Frame>(std::move(frame));
   }
 
@@ -85,12 +84,13 @@ Result<std::vector<Fault>> parse_fault_plan(std::string_view text) {
   size_t start = 0;
   while (start <= text.size()) {
     const size_t comma = text.find(',', start);
-    const std::string_view event =
-        text.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    const std::string_view event = text.substr(
+        start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
     const size_t at = event.find('@');
     if (at == std::string_view::npos)
-      return plan_error(event, "expected KIND@FIRST[-LAST] (kinds: stall, drop, nan, halfres, "
-                               "disconnect)");
+      return plan_error(event,
+                        "expected KIND@FIRST[-LAST] (kinds: stall, drop, nan, halfres, "
+                        "disconnect)");
     const std::string_view kind = event.substr(0, at);
     std::string_view range = event.substr(at + 1);
     Fault f;
@@ -99,8 +99,9 @@ Result<std::vector<Fault>> parse_fault_plan(std::string_view text) {
       const size_t colon = range.find(':');
       if (colon == std::string_view::npos || !to_int(range.substr(colon + 1), f.stall_ms) ||
           f.stall_ms > 60000)
-        return plan_error(event, "a stall needs its length in milliseconds, stall@FRAME:MS "
-                                 "(MS at most 60000)");
+        return plan_error(event,
+                          "a stall needs its length in milliseconds, stall@FRAME:MS "
+                          "(MS at most 60000)");
       range = range.substr(0, colon);
     } else if (kind == "drop") {
       f.kind = FaultKind::drop;
@@ -115,10 +116,10 @@ Result<std::vector<Fault>> parse_fault_plan(std::string_view text) {
                                    "' (kinds: stall, drop, nan, halfres, disconnect)");
     }
     const size_t dash = range.find('-');
-    const bool ok = dash == std::string_view::npos
-                        ? to_int(range, f.first) && (f.last = f.first, true)
-                        : to_int(range.substr(0, dash), f.first) &&
-                              to_int(range.substr(dash + 1), f.last);
+    const bool ok =
+        dash == std::string_view::npos
+            ? to_int(range, f.first) && (f.last = f.first, true)
+            : to_int(range.substr(0, dash), f.first) && to_int(range.substr(dash + 1), f.last);
     if (!ok || f.last < f.first)
       return plan_error(event, "expected FIRST or FIRST-LAST, whole numbers with FIRST <= LAST");
     plan.push_back(f);
@@ -137,8 +138,7 @@ std::vector<std::string> FrameHealthMonitor::check(const Frame& frame, double re
   std::vector<std::string> notes;
   size_t valid = 0;
   for (const PointXYZRGB& p : frame.points) valid += std::isfinite(p.z) ? 1 : 0;
-  if (valid == 0)
-    notes.push_back("all " + std::to_string(frame.points.size()) + " points invalid");
+  if (valid == 0) notes.push_back("all " + std::to_string(frame.points.size()) + " points invalid");
   if (have_previous_) {
     if (frame.width != width_ || frame.height != height_)
       notes.push_back("resolution " + std::to_string(frame.width) + "x" +

@@ -114,16 +114,18 @@ Result<OscUrl> parse_osc_url(std::string_view text, bool host_required) {
 std::string OscMessage::types() const {
   std::string t;
   for (const OscArg& a : args)
-    t += std::holds_alternative<std::int32_t>(a) ? 'i' : std::holds_alternative<float>(a) ? 'f' : 's';
+    t += std::holds_alternative<std::int32_t>(a) ? 'i'
+         : std::holds_alternative<float>(a)      ? 'f'
+                                                 : 's';
   return t;
 }
 
 std::vector<OscMessage> frame_messages(const HapticSpec& spec, const FrameReport& report,
                                        double time_s) {
   std::vector<OscMessage> out;
-  out.push_back({"/annex/frame",
-                 {std::int32_t(report.frame_index), float(time_s),
-                  std::int32_t(report.objects.size())}});
+  out.push_back(
+      {"/annex/frame",
+       {std::int32_t(report.frame_index), float(time_s), std::int32_t(report.objects.size())}});
   for (const std::string& id : report.excluded) out.push_back({"/annex/excluded", {id}});
   for (const std::string& name : report.released) out.push_back({"/annex/released", {name}});
   for (const AnnexedObject& o : report.objects) {
@@ -266,10 +268,17 @@ std::string describe_args(const char* types, lo_arg** argv, int argc) {
   for (int i = 0; i < argc && types && types[i]; ++i) {
     out += ' ';
     switch (types[i]) {
-      case 'i': out += std::to_string(argv[i]->i); break;
-      case 'f': out += std::to_string(argv[i]->f); break;
-      case 's': out += std::string("\"") + &argv[i]->s + "\""; break;
-      default: out += '?';
+      case 'i':
+        out += std::to_string(argv[i]->i);
+        break;
+      case 'f':
+        out += std::to_string(argv[i]->f);
+        break;
+      case 's':
+        out += std::string("\"") + &argv[i]->s + "\"";
+        break;
+      default:
+        out += '?';
     }
   }
   return out;
@@ -290,8 +299,7 @@ int on_rescan(const char*, const char*, lo_arg**, int, lo_message, void* data) {
   return 0;
 }
 
-int on_other(const char* path, const char* types, lo_arg** argv, int argc, lo_message,
-             void* data) {
+int on_other(const char* path, const char* types, lo_arg** argv, int argc, lo_message, void* data) {
   auto* impl = static_cast<Inbox*>(data);
   const std::string p = path ? path : "";
   std::string why = " (not in the address space: /annex/exclude s, /annex/rescan)";
@@ -319,11 +327,12 @@ Result<OscListener> OscListener::open(std::string_view text) {
   g_lo_error.clear();
   const std::string port = std::to_string(url->port);
   if (!url->host.empty())
-    return url_error(text, "a listening URL names only the port, osc.udp://:PORT (it listens on "
-                           "every interface)");
+    return url_error(text,
+                     "a listening URL names only the port, osc.udp://:PORT (it listens on "
+                     "every interface)");
   // liblo picks a free port when given none.
-  lo_server s = lo_server_new_with_proto(url->port == 0 ? nullptr : port.c_str(), LO_UDP,
-                                         remember_lo_error);
+  lo_server s =
+      lo_server_new_with_proto(url->port == 0 ? nullptr : port.c_str(), LO_UDP, remember_lo_error);
   if (!s)
     return url_error(text, "cannot listen on UDP port " + port + ": " +
                                (g_lo_error.empty() ? "unknown liblo error" : g_lo_error));
@@ -334,13 +343,24 @@ Result<OscListener> OscListener::open(std::string_view text) {
   return OscListener(std::move(impl));
 }
 
-int OscListener::port() const { return lo_server_get_port(impl_->server.handle); }
+int OscListener::port() const {
+  return lo_server_get_port(impl_->server.handle);
+}
 
 std::vector<OscCommand> OscListener::poll(std::vector<std::string>* warnings) {
-  // Every datagram already queued, without blocking.
-  while (lo_server_recv_noblock(impl_->server.handle, 0) > 0) {
-  }
+  // The datagrams already queued, without blocking (at most kMaxPerPoll, so a flood
+  // cannot hold up the frame loop).
+  constexpr int kMaxPerPoll = 1000;
   Inbox& inbox = impl_->inbox;
+  g_lo_error.clear();
+  for (int n = 0; n < kMaxPerPoll && lo_server_recv_noblock(impl_->server.handle, 0) > 0; ++n) {
+    if (!g_lo_error.empty()) {  // liblo's handler saw a malformed packet
+      inbox.warnings.push_back("ignored a malformed OSC packet: " + g_lo_error);
+      g_lo_error.clear();
+    }
+  }
+  if (!g_lo_error.empty())
+    inbox.warnings.push_back("ignored a malformed OSC packet: " + g_lo_error);
   std::vector<OscCommand> out = std::move(inbox.pending);
   inbox.pending.clear();
   if (warnings)

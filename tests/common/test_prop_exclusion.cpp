@@ -31,9 +31,8 @@ PhysicalObject object(std::string id, std::vector<PhysicalPrimitive> prims) {
 
 TEST(PropExclusion, HeightAboveTheSupport) {
   // A bottle: a 20 cm body on the table and a 10 cm neck on it.
-  const PhysicalObject bottle =
-      object("p1", {upright(ShapeKind::cylinder, {0.04, 0.2}, 0.8, 0.1),
-                    upright(ShapeKind::cone, {0.015, 0.1}, 0.6, 0.05)});
+  const PhysicalObject bottle = object("p1", {upright(ShapeKind::cylinder, {0.04, 0.2}, 0.8, 0.1),
+                                              upright(ShapeKind::cone, {0.015, 0.1}, 0.6, 0.05)});
   EXPECT_NEAR(prop_height_m(bottle, kTable), 0.3, 1e-9);
   // A ball of radius 5 cm resting on it.
   const PhysicalObject ball = object("p2", {upright(ShapeKind::sphere, {0.05}, 0.8, 0.05)});

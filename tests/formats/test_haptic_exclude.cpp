@@ -17,7 +17,9 @@ constexpr const char* kObject =
     "  end\n"
     "end\n";
 
-std::string with(const std::string& rules) { return std::string(kObject) + rules; }
+std::string with(const std::string& rules) {
+  return std::string(kObject) + rules;
+}
 
 TEST(HapticExclude, ReadsShapesAndRanges) {
   const auto spec = parse_haptic(with("exclude tall   # nothing taller than 40 cm\n"
@@ -86,10 +88,12 @@ TEST(HapticExclude, ErrorsNameLineAndColumn) {
   // Rules start at line 7.
   const BadRule cases[] = {
       {"exclude a\n  radius min 0.1\nend\n", 8, 3, "'radius' needs a shape"},
-      {"exclude a\n  shape box\n  radius min 0.1\nend\n", 9, 3, "'radius' is not a dimension of a box"},
+      {"exclude a\n  shape box\n  radius min 0.1\nend\n", 9, 3,
+       "'radius' is not a dimension of a box"},
       {"exclude a\nend\n", 8, 1, "names neither a shape nor a size range"},
       {"exclude a\n  prop_height\nend\n", 8, 14, "expected 'min METRES' and/or 'max METRES'"},
-      {"exclude a\n  prop_height min 0.5 max 0.2\nend\n", 8, 27, "minimum 0.5 is larger than maximum 0.2"},
+      {"exclude a\n  prop_height min 0.5 max 0.2\nend\n", 8, 27,
+       "minimum 0.5 is larger than maximum 0.2"},
       {"exclude a\n  prop_height min -1\nend\n", 8, 19, "finite metres >= 0"},
       {"exclude a\n  prop_height min 0.1 min 0.2\nend\n", 8, 23, "duplicate key 'min'"},
       {"exclude a\n  prop_hieght min 0.1\nend\n", 8, 3, "did you mean 'prop_height'"},

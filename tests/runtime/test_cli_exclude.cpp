@@ -11,20 +11,21 @@
 namespace annex::test {
 namespace {
 
-std::string figure3_with(const std::string& rules) {
+// Each test its own file: ctest runs them in parallel.
+std::string figure3_with(const std::string& name, const std::string& rules) {
   std::ifstream in(source_path("samples/figure3/figure3.haptic"));
   std::stringstream text;
   text << in.rdbuf() << "\n" << rules;
   const auto dir = std::filesystem::temp_directory_path() / "annex_cli_exclude";
   std::filesystem::create_directories(dir);
-  const auto path = dir / "figure3_excluding.haptic";
+  const auto path = dir / (name + ".haptic");
   std::ofstream(path) << text.str();
   return path.string();
 }
 
 TEST(CliExclude, MatchLeavesTheTallPropOut) {
   // Figure 3's cylinder p1 is 20 cm tall; the cone and the sphere 10 cm.
-  const std::string spec = figure3_with("exclude tall\n  prop_height min 0.15\nend\n");
+  const std::string spec = figure3_with("tall", "exclude tall\n  prop_height min 0.15\nend\n");
   const std::string scene = shell_quote(source_path("samples/figure3/figure3.scene"));
   const CliRun plain = run_cli("match " + shell_quote(spec) + " " + scene);
   ASSERT_EQ(plain.exit_code, 0) << plain.output;
@@ -43,7 +44,8 @@ TEST(CliExclude, MatchLeavesTheTallPropOut) {
 }
 
 TEST(CliExclude, CheckReportsABadRuleWithItsPosition) {
-  const std::string spec = figure3_with("exclude balls\n  shape sphere\n  height max 1\nend\n");
+  const std::string spec =
+      figure3_with("balls", "exclude balls\n  shape sphere\n  height max 1\nend\n");
   const CliRun c = run_cli("check " + shell_quote(spec));
   EXPECT_EQ(c.exit_code, 2) << c.output;
   EXPECT_NE(c.output.find(":41:3: error: 'height' is not a dimension of a sphere"),

@@ -75,8 +75,8 @@ TEST(FaultPlan, ParsesEveryKindAndRefusesNonsense) {
   EXPECT_EQ((*plan)[4].kind, FaultKind::disconnect);
   EXPECT_EQ((*plan)[4].first, 40);
   EXPECT_EQ((*plan)[4].last, 40);
-  for (const char* bad : {"", "stall@3", "stall@3:99999", "drop@5-3", "melt@1", "nan@x",
-                          "nan@1,", "drop5"}) {
+  for (const char* bad :
+       {"", "stall@3", "stall@3:99999", "drop@5-3", "melt@1", "nan@x", "nan@1,", "drop5"}) {
     const auto r = parse_fault_plan(bad);
     EXPECT_FALSE(r.ok()) << bad;
     if (!r.ok()) EXPECT_NE(r.error().message.find("fault plan"), std::string::npos);
@@ -131,8 +131,7 @@ SyntheticScene three_props(std::uint64_t seed) {
     Result<SyntheticScene> s = generate_scene(p);
     if (!s) continue;
     const auto& o = s->objects;
-    if (o.size() == 3 && o[0].kind != o[1].kind && o[1].kind != o[2].kind &&
-        o[0].kind != o[2].kind)
+    if (o.size() == 3 && o[0].kind != o[1].kind && o[1].kind != o[2].kind && o[0].kind != o[2].kind)
       return *s;
   }
   ADD_FAILURE() << "no scene of three different shapes";
@@ -239,11 +238,11 @@ TEST(FaultRun, TheLoopGoesOnAndSaysWhatHappened) {
   const fs::path dir = fs::temp_directory_path() / "annex_test_fault_run";
   fs::remove_all(dir);
   const fs::path frames = long_recording(dir / "frames", 60);
-  const test::CliRun run = test::run_cli(
-      "run " + test::source_path("samples/specs/study.haptic") + " --source " + frames.string() +
-      " --out " + (dir / "out").string() +
-      " --release-after 4 --scan-every 3"
-      " --inject-faults stall@2:300,drop@4,nan@8-22,halfres@32-35,disconnect@40-44");
+  const test::CliRun run =
+      test::run_cli("run " + test::source_path("samples/specs/study.haptic") + " --source " +
+                    frames.string() + " --out " + (dir / "out").string() +
+                    " --release-after 4 --scan-every 3"
+                    " --inject-faults stall@2:300,drop@4,nan@8-22,halfres@32-35,disconnect@40-44");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::string& out = run.output;
   EXPECT_NE(out.find("frame 2: the source took 0."), std::string::npos) << out;
@@ -293,17 +292,17 @@ TEST(FaultRun, TheLoopGoesOnAndSaysWhatHappened) {
 }
 
 TEST(FaultRun, ALiveSourceThatStaysGoneEndsTheRun) {
-  const test::CliRun run = test::run_cli(
-      "run " + test::source_path("samples/specs/study.haptic") + " --source " +
-      test::source_path("samples/recordings/tabletop") +
-      " --inject-faults disconnect@3-100 --source-retries 5");
+  const test::CliRun run =
+      test::run_cli("run " + test::source_path("samples/specs/study.haptic") + " --source " +
+                    test::source_path("samples/recordings/tabletop") +
+                    " --inject-faults disconnect@3-100 --source-retries 5");
   EXPECT_EQ(run.exit_code, 1) << run.output;
   EXPECT_NE(run.output.find("error: the source failed 6 reads in a row; giving up"),
             std::string::npos)
       << run.output;
-  const test::CliRun bad = test::run_cli(
-      "run " + test::source_path("samples/specs/study.haptic") + " --source " +
-      test::source_path("samples/recordings/tabletop") + " --inject-faults melt@3");
+  const test::CliRun bad =
+      test::run_cli("run " + test::source_path("samples/specs/study.haptic") + " --source " +
+                    test::source_path("samples/recordings/tabletop") + " --inject-faults melt@3");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.output.find("unknown fault 'melt'"), std::string::npos) << bad.output;
 }

@@ -3,8 +3,8 @@
 // plays the game answering /annex/exclude and /annex/rescan. Loopback only.
 #include "annex/runtime/osc_stream.h"
 
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <signal.h>
 #include <spawn.h>
@@ -65,8 +65,7 @@ class OscDump {
   OscDump(int port, fs::path out) : port_(port), out_(std::move(out)) {
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, out_.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                     0644);
+    posix_spawn_file_actions_addopen(&actions, 1, out_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     const std::string port_text = std::to_string(port);
     char* argv[] = {const_cast<char*>("oscdump"), const_cast<char*>("-L"),
                     const_cast<char*>(port_text.c_str()), nullptr};
@@ -175,8 +174,12 @@ int count_of(const std::string& text, const std::string& what) {
   return n;
 }
 
-std::string study() { return test::source_path("samples/specs/study.haptic"); }
-std::string recording() { return test::source_path("samples/recordings/tabletop"); }
+std::string study() {
+  return test::source_path("samples/specs/study.haptic");
+}
+std::string recording() {
+  return test::source_path("samples/recordings/tabletop");
+}
 
 // ---- The library ----------------------------------------------------------------------
 
@@ -255,7 +258,9 @@ TEST(OscMessages, OneFrameInBundleOrder) {
   EXPECT_EQ(m[2].address, "/annex/released");
   EXPECT_EQ(std::get<std::string>(m[2].args[0]), "mug");
   EXPECT_EQ(m[3].address, "/annex/object");
-  EXPECT_EQ(m[3].types(), "sssfffffffffff" "f");
+  EXPECT_EQ(m[3].types(),
+            "sssfffffffffff"
+            "f");
   EXPECT_EQ(std::get<std::string>(m[3].args[0]), "bottle");
   EXPECT_EQ(std::get<std::string>(m[3].args[1]), "p3");
   EXPECT_EQ(std::get<std::string>(m[3].args[2]), "held");
@@ -273,9 +278,19 @@ TEST(OscListener, ReceivesExcludeAndRescanFromOscsend) {
   ASSERT_TRUE(oscsend(port, "/annex/rescan", ""));
   ASSERT_TRUE(oscsend(port, "/annex/exclude", "i 3"));
   ASSERT_TRUE(oscsend(port, "/annex/teleport", "s p1"));
+  {  // Not OSC at all.
+    const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    a.sin_port = htons(static_cast<std::uint16_t>(port));
+    const char junk[] = "not an OSC packet";
+    sendto(fd, junk, sizeof junk, 0, reinterpret_cast<sockaddr*>(&a), sizeof a);
+    close(fd);
+  }
   std::vector<OscCommand> commands;
   std::vector<std::string> warnings;
-  for (int i = 0; i < 200 && commands.size() + warnings.size() < 4; ++i) {
+  for (int i = 0; i < 200 && commands.size() + warnings.size() < 5; ++i) {
     for (OscCommand& c : listener->poll(&warnings)) commands.push_back(std::move(c));
     std::this_thread::sleep_for(10ms);
   }
@@ -283,11 +298,11 @@ TEST(OscListener, ReceivesExcludeAndRescanFromOscsend) {
   EXPECT_EQ(commands[0].kind, OscCommand::Kind::exclude);
   EXPECT_EQ(commands[0].physical_id, "p3");
   EXPECT_EQ(commands[1].kind, OscCommand::Kind::rescan);
-  ASSERT_EQ(warnings.size(), 2u);
-  EXPECT_NE(warnings[0].find("/annex/exclude ,i 3 (expects one string argument"),
-            std::string::npos)
+  ASSERT_EQ(warnings.size(), 3u);
+  EXPECT_NE(warnings[0].find("/annex/exclude ,i 3 (expects one string argument"), std::string::npos)
       << warnings[0];
   EXPECT_NE(warnings[1].find("/annex/teleport"), std::string::npos) << warnings[1];
+  EXPECT_NE(warnings[2].find("ignored a malformed OSC packet"), std::string::npos) << warnings[2];
   // The port is taken now: a second listener says so.
   const Result<OscListener> again = OscListener::open("osc.udp://:" + std::to_string(port));
   ASSERT_FALSE(again.ok());
@@ -296,8 +311,7 @@ TEST(OscListener, ReceivesExcludeAndRescanFromOscsend) {
 
 TEST(OscStream, ATargetWhereNothingListensIsReportedOnce) {
   const int closed = free_udp_port();
-  Result<OscStream> stream =
-      OscStream::open({"osc.udp://127.0.0.1:" + std::to_string(closed)});
+  Result<OscStream> stream = OscStream::open({"osc.udp://127.0.0.1:" + std::to_string(closed)});
   ASSERT_TRUE(stream.ok()) << stream.error().format();
   HapticSpec spec;
   std::vector<std::string> problems;
@@ -334,10 +348,9 @@ TEST(RunStream, OscdumpSeesTheRecordingFrameByFrame) {
   const int closed = free_udp_port();
   const std::string listening = "osc.udp://127.0.0.1:" + std::to_string(port);
   const std::string nobody = "osc.udp://127.0.0.1:" + std::to_string(closed);
-  const test::CliRun run =
-      test::run_cli("run " + study() + " --source " + recording() + " --out " +
-                    (dir / "out").string() + " --no-overlays --stream " + listening +
-                    " --stream " + nobody);
+  const test::CliRun run = test::run_cli("run " + study() + " --source " + recording() + " --out " +
+                                         (dir / "out").string() + " --no-overlays --stream " +
+                                         listening + " --stream " + nobody);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_EQ(count_of(run.output, nobody + ": cannot deliver"), 1) << run.output;
   EXPECT_NE(run.output.find(listening + ": 12 bundles sent\n"), std::string::npos) << run.output;
@@ -358,7 +371,9 @@ TEST(RunStream, OscdumpSeesTheRecordingFrameByFrame) {
       frames[current];
     } else if (d.address == "/annex/object") {
       ASSERT_GE(current, 0);
-      ASSERT_EQ(d.types, "sssfffffffffff" "f");
+      ASSERT_EQ(d.types,
+                "sssfffffffffff"
+                "f");
       frames[current].push_back(d);
     }
   }
@@ -398,8 +413,8 @@ TEST(RunStream, OscdumpSeesTheRecordingFrameByFrame) {
 
 // The ids the first scan of the recording gives each virtual object's prop.
 std::map<std::string, std::string> first_matches() {
-  const test::CliRun run = test::run_cli("run " + study() + " --source " + recording() +
-                                         " --frames 1");
+  const test::CliRun run =
+      test::run_cli("run " + study() + " --source " + recording() + " --frames 1");
   std::map<std::string, std::string> ids;
   const std::regex match_line(R"(frame 0 match (\S+) (\S+) )");
   for (std::sregex_iterator it(run.output.begin(), run.output.end(), match_line), end; it != end;
@@ -413,9 +428,9 @@ TEST(RunStream, ExcludeOnTheCommandLine) {
   ASSERT_EQ(ids.count("lamp"), 1u);
   const fs::path out = fs::temp_directory_path() / "annex_test_exclude_cli";
   fs::remove_all(out);
-  const test::CliRun run = test::run_cli("run " + study() + " --source " + recording() +
-                                         " --out " + out.string() + " --no-overlays --exclude " +
-                                         ids.at("lamp") + ",p99");
+  const test::CliRun run =
+      test::run_cli("run " + study() + " --source " + recording() + " --out " + out.string() +
+                    " --no-overlays --exclude " + ids.at("lamp") + ",p99");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("frame 0 exclude " + ids.at("lamp") + "\n"), std::string::npos)
       << run.output;
@@ -471,11 +486,12 @@ TEST(RunStream, OscsendExcludesAPropMidRun) {
   OscDump dump(port, dir / "dump.txt");
   ASSERT_TRUE(dump.started());
   ASSERT_TRUE(dump.wait_ready());
-  const std::string cmd = test::shell_quote(ANNEX_RUNTIME_EXE) + " run " + study() +
-                          " --source " + (dir / "frames").string() + " --realtime --out " +
-                          (dir / "out").string() + " --no-overlays --stream osc.udp://127.0.0.1:" +
-                          std::to_string(port) + " --listen osc.udp://:" + std::to_string(listen) +
-                          " > " + (dir / "run.txt").string() + " 2>&1";
+  const std::string cmd = test::shell_quote(ANNEX_RUNTIME_EXE) + " run " + study() + " --source " +
+                          (dir / "frames").string() + " --realtime --out " +
+                          (dir / "out").string() +
+                          " --no-overlays --stream osc.udp://127.0.0.1:" + std::to_string(port) +
+                          " --listen osc.udp://:" + std::to_string(listen) + " > " +
+                          (dir / "run.txt").string() + " 2>&1";
   std::thread runner([&] { std::system(cmd.c_str()); });
   // Once the lamp is streamed on its prop, the game excludes it.
   const std::string first = dump.wait_for("\"" + lamp_prop + "\"", 1);

@@ -23,8 +23,7 @@ SyntheticScene three_props(std::uint64_t seed) {
     Result<SyntheticScene> s = generate_scene(p);
     if (!s) continue;
     const auto& o = s->objects;
-    if (o.size() == 3 && o[0].kind != o[1].kind && o[1].kind != o[2].kind &&
-        o[0].kind != o[2].kind)
+    if (o.size() == 3 && o[0].kind != o[1].kind && o[1].kind != o[2].kind && o[0].kind != o[2].kind)
       return *s;
   }
   ADD_FAILURE() << "no scene of three different shapes from seed " << seed;
