@@ -22,6 +22,12 @@ Error file_error(std::string_view origin, const std::string& message) {
   return Error{message, Location{std::string(origin)}};
 }
 
+std::string printable(std::string_view s) {
+  std::string out;
+  for (char c : s) out += (c >= 32 && c < 127) ? c : '?';
+  return out;
+}
+
 struct PngHeader {
   int width = 0, height = 0, channels = 0;
   bool sixteen_bit = false;
@@ -60,6 +66,29 @@ Result<PngHeader> read_header(std::string_view path, std::string_view bytes,
   return h;
 }
 
+// The PNG's chunks, each checked to lie within the file, with empty IDAT chunks
+// left out (legal, but stb_image copies from a null buffer for them: found by
+// fuzz_depth_png). What stb_image decodes.
+Result<std::string> checked_chunks(std::string_view path, std::string_view bytes) {
+  std::string out(bytes.substr(0, 8));
+  std::size_t at = 8;
+  while (at < bytes.size()) {
+    if (bytes.size() - at < 12)
+      return file_error(path, "truncated PNG: " + std::to_string(bytes.size() - at) +
+                                  " bytes after the last chunk");
+    const std::uint32_t length = be32(bytes, at);
+    const std::string_view type = bytes.substr(at + 4, 4);
+    if (length > bytes.size() - at - 12)
+      return file_error(path, "truncated PNG: chunk '" + printable(type) + "' claims " +
+                                  std::to_string(length) + " bytes, " +
+                                  std::to_string(bytes.size() - at - 12) + " remain");
+    if (!(type == "IDAT" && length == 0)) out.append(bytes.substr(at, 12 + length));
+    at += 12 + length;
+    if (type == "IEND") break;
+  }
+  return out;
+}
+
 Result<std::string> read_bytes(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return file_error(path.string(), "no such file");
@@ -86,6 +115,8 @@ Result<DepthImage> decode_depth_png(std::string_view bytes, std::string_view pat
     return file_error(path, "PNG file too large");
   Result<PngHeader> h = read_header(path, bytes, params);
   if (!h) return h.error();
+  Result<std::string> chunks = checked_chunks(path, bytes);
+  if (!chunks) return chunks.error();
   if (!h->sixteen_bit)
     return file_error(path, "8-bit image: depth must be a 16-bit PNG (an 8-bit one is a "
                             "visualisation, not a measurement)");
@@ -94,8 +125,8 @@ Result<DepthImage> decode_depth_png(std::string_view bytes, std::string_view pat
                                 " channels; a depth image has one");
   int w = 0, hgt = 0, n = 0;
   std::unique_ptr<stbi_us, void (*)(void*)> pixels(
-      stbi_load_16_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
-                               static_cast<int>(bytes.size()), &w, &hgt, &n, 1),
+      stbi_load_16_from_memory(reinterpret_cast<const stbi_uc*>(chunks->data()),
+                               static_cast<int>(chunks->size()), &w, &hgt, &n, 1),
       stbi_image_free);
   if (!pixels) return file_error(path, "corrupt PNG (" + std::string(stbi_failure_reason()) + ")");
 
@@ -125,10 +156,12 @@ Result<ColorImage> decode_color_png(std::string_view bytes, std::string_view pat
     return file_error(path, "PNG file too large");
   Result<PngHeader> h = read_header(path, bytes, params);
   if (!h) return h.error();
+  Result<std::string> chunks = checked_chunks(path, bytes);
+  if (!chunks) return chunks.error();
   int w = 0, hgt = 0, n = 0;
   std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
-      stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
-                            static_cast<int>(bytes.size()), &w, &hgt, &n, 3),
+      stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(chunks->data()),
+                            static_cast<int>(chunks->size()), &w, &hgt, &n, 3),
       stbi_image_free);
   if (!pixels) return file_error(path, "corrupt PNG (" + std::string(stbi_failure_reason()) + ")");
   ColorImage color;
