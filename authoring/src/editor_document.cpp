@@ -357,22 +357,26 @@ Status EditorDocument::apply_edit(const Command& command) {
             d->weight = c.weight;
           }
         } else if constexpr (std::is_same_v<T, cmd::SetRank>) {
-          const std::vector<double> w = weights_from_order(c.order);
+          // The order is checked before it indexes anything (fuzz_script found a
+          // ranking of fewer items than the object has written out of bounds).
           if (c.level == WeightLevel::object) {
             if (!is_permutation_of_n(c.order, static_cast<int>(objects.size())))
               return edit_error("a ranking must list every object once");
+            const std::vector<double> w = weights_from_order(c.order);
             for (std::size_t i = 0; i < w.size(); ++i) objects[i].priority = w[i];
           } else if (c.level == WeightLevel::primitive) {
             VirtualObject* o = object_at(c.object);
             if (!o) return edit_error(bad_object);
             if (!is_permutation_of_n(c.order, static_cast<int>(o->primitives.size())))
               return edit_error("a ranking must list every primitive of the object once");
+            const std::vector<double> w = weights_from_order(c.order);
             for (std::size_t i = 0; i < w.size(); ++i) o->primitives[i].weight = w[i];
           } else {
             Primitive* p = primitive_at(c.object, c.primitive);
             if (!p) return edit_error(bad_primitive);
             if (!is_permutation_of_n(c.order, static_cast<int>(p->dimensions.size())))
               return edit_error("a ranking must list every dimension of the primitive once");
+            const std::vector<double> w = weights_from_order(c.order);
             for (std::size_t i = 0; i < w.size(); ++i) p->dimensions[i].weight = w[i];
           }
         } else if constexpr (std::is_same_v<T, cmd::ReplacePrimitive>) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -17,8 +18,14 @@
 namespace annex {
 namespace {
 
-Error file_error(const std::filesystem::path& path, const std::string& message) {
-  return Error{message, Location{path.string()}};
+Error file_error(std::string_view origin, const std::string& message) {
+  return Error{message, Location{std::string(origin)}};
+}
+
+std::string printable(std::string_view s) {
+  std::string out;
+  for (char c : s) out += (c >= 32 && c < 127) ? c : '?';
+  return out;
 }
 
 struct PngHeader {
@@ -26,7 +33,7 @@ struct PngHeader {
   bool sixteen_bit = false;
 };
 
-std::uint32_t be32(const std::string& b, std::size_t at) {
+std::uint32_t be32(std::string_view b, std::size_t at) {
   return (std::uint32_t{static_cast<unsigned char>(b[at])} << 24) |
          (std::uint32_t{static_cast<unsigned char>(b[at + 1])} << 16) |
          (std::uint32_t{static_cast<unsigned char>(b[at + 2])} << 8) |
@@ -36,7 +43,7 @@ std::uint32_t be32(const std::string& b, std::size_t at) {
 // Header checks before any pixel is decoded, read from the IHDR chunk that the PNG
 // specification puts first: memory follows the image's real size, and the error
 // says what the header claims.
-Result<PngHeader> read_header(const std::filesystem::path& path, const std::string& bytes,
+Result<PngHeader> read_header(std::string_view path, std::string_view bytes,
                               const DepthPngParams& params) {
   static constexpr char kSignature[] = "\x89PNG\r\n\x1a\n";
   if (bytes.size() < 29 || bytes.compare(0, 8, kSignature, 8) != 0 ||
@@ -59,9 +66,32 @@ Result<PngHeader> read_header(const std::filesystem::path& path, const std::stri
   return h;
 }
 
+// The PNG's chunks, each checked to lie within the file, with empty IDAT chunks
+// left out (legal, but stb_image copies from a null buffer for them: found by
+// fuzz_depth_png). What stb_image decodes.
+Result<std::string> checked_chunks(std::string_view path, std::string_view bytes) {
+  std::string out(bytes.substr(0, 8));
+  std::size_t at = 8;
+  while (at < bytes.size()) {
+    if (bytes.size() - at < 12)
+      return file_error(path, "truncated PNG: " + std::to_string(bytes.size() - at) +
+                                  " bytes after the last chunk");
+    const std::uint32_t length = be32(bytes, at);
+    const std::string_view type = bytes.substr(at + 4, 4);
+    if (length > bytes.size() - at - 12)
+      return file_error(path, "truncated PNG: chunk '" + printable(type) + "' claims " +
+                                  std::to_string(length) + " bytes, " +
+                                  std::to_string(bytes.size() - at - 12) + " remain");
+    if (!(type == "IDAT" && length == 0)) out.append(bytes.substr(at, 12 + length));
+    at += 12 + length;
+    if (type == "IEND") break;
+  }
+  return out;
+}
+
 Result<std::string> read_bytes(const std::filesystem::path& path) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return file_error(path, "no such file");
+  if (!std::filesystem::is_regular_file(path, ec)) return file_error(path.string(), "no such file");
   // 64 MiB holds an uncompressed 4096x4096 16-bit image.
   return read_text_file(path, std::size_t{64} << 20);
 }
@@ -71,11 +101,22 @@ Result<std::string> read_bytes(const std::filesystem::path& path) {
 Result<DepthImage> read_depth_png(const std::filesystem::path& path,
                                   const DepthPngParams& params) {
   if (!(params.depth_scale > 0) || !std::isfinite(params.depth_scale))
-    return file_error(path, "depth scale must be a positive number");
+    return file_error(path.string(), "depth scale must be a positive number");
   Result<std::string> bytes = read_bytes(path);
   if (!bytes) return bytes.error();
-  Result<PngHeader> h = read_header(path, *bytes, params);
+  return decode_depth_png(*bytes, path.string(), params);
+}
+
+Result<DepthImage> decode_depth_png(std::string_view bytes, std::string_view path,
+                                    const DepthPngParams& params) {
+  if (!(params.depth_scale > 0) || !std::isfinite(params.depth_scale))
+    return file_error(path, "depth scale must be a positive number");
+  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    return file_error(path, "PNG file too large");
+  Result<PngHeader> h = read_header(path, bytes, params);
   if (!h) return h.error();
+  Result<std::string> chunks = checked_chunks(path, bytes);
+  if (!chunks) return chunks.error();
   if (!h->sixteen_bit)
     return file_error(path, "8-bit image: depth must be a 16-bit PNG (an 8-bit one is a "
                             "visualisation, not a measurement)");
@@ -84,8 +125,8 @@ Result<DepthImage> read_depth_png(const std::filesystem::path& path,
                                 " channels; a depth image has one");
   int w = 0, hgt = 0, n = 0;
   std::unique_ptr<stbi_us, void (*)(void*)> pixels(
-      stbi_load_16_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()),
-                               static_cast<int>(bytes->size()), &w, &hgt, &n, 1),
+      stbi_load_16_from_memory(reinterpret_cast<const stbi_uc*>(chunks->data()),
+                               static_cast<int>(chunks->size()), &w, &hgt, &n, 1),
       stbi_image_free);
   if (!pixels) return file_error(path, "corrupt PNG (" + std::string(stbi_failure_reason()) + ")");
 
@@ -106,12 +147,21 @@ Result<ColorImage> read_color_png(const std::filesystem::path& path,
                                   const DepthPngParams& params) {
   Result<std::string> bytes = read_bytes(path);
   if (!bytes) return bytes.error();
-  Result<PngHeader> h = read_header(path, *bytes, params);
+  return decode_color_png(*bytes, path.string(), params);
+}
+
+Result<ColorImage> decode_color_png(std::string_view bytes, std::string_view path,
+                                    const DepthPngParams& params) {
+  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    return file_error(path, "PNG file too large");
+  Result<PngHeader> h = read_header(path, bytes, params);
   if (!h) return h.error();
+  Result<std::string> chunks = checked_chunks(path, bytes);
+  if (!chunks) return chunks.error();
   int w = 0, hgt = 0, n = 0;
   std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
-      stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()),
-                            static_cast<int>(bytes->size()), &w, &hgt, &n, 3),
+      stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(chunks->data()),
+                            static_cast<int>(chunks->size()), &w, &hgt, &n, 3),
       stbi_image_free);
   if (!pixels) return file_error(path, "corrupt PNG (" + std::string(stbi_failure_reason()) + ")");
   ColorImage color;
@@ -132,7 +182,7 @@ Result<Frame> read_depth_frame(const std::filesystem::path& depth_path,
     Result<ColorImage> c = read_color_png(*color_path, params);
     if (!c) return c.error();
     if (c->width * depth->height != c->height * depth->width)
-      return file_error(*color_path, "colour image is " + std::to_string(c->width) + "x" +
+      return file_error(color_path->string(), "colour image is " + std::to_string(c->width) + "x" +
                                          std::to_string(c->height) + " but the depth image " +
                                          depth_path.filename().string() + " is " +
                                          std::to_string(depth->width) + "x" +
@@ -140,7 +190,7 @@ Result<Frame> read_depth_frame(const std::filesystem::path& depth_path,
     color = std::move(*c);
   }
   Result<Frame> frame = depth_to_frame(*depth, color ? &*color : nullptr, intrinsics);
-  if (!frame) return file_error(depth_path, frame.error().message);
+  if (!frame) return file_error(depth_path.string(), frame.error().message);
   return frame;
 }
 

@@ -330,6 +330,10 @@ Result<PcdHeader> parse_pcd_header(std::string_view text, std::string_view origi
     };
     auto per_field = [&](std::string_view what) -> std::optional<Error> {
       if (!has_fields) return fail(tok[0].column, std::string(what) + " before FIELDS");
+      // Given twice, a list would no longer match the fields it describes.
+      if ((what == "SIZE" && has_size) || (what == "TYPE" && has_type) ||
+          (what == "COUNT" && has_count))
+        return fail(tok[0].column, std::string(what) + " given twice");
       if (nvalues != h.fields.size())
         return fail(tok[0].column, std::string(what) + " lists " + std::to_string(nvalues) +
                                        " values for " + std::to_string(h.fields.size()) + " fields");
@@ -346,6 +350,7 @@ Result<PcdHeader> parse_pcd_header(std::string_view text, std::string_view origi
       continue;
     } else if (key == "FIELDS" || key == "COLUMNS") {
       if (auto e = need_values()) return *e;
+      if (has_fields) return fail(tok[0].column, std::string(key) + " given twice");
       if (nvalues > 256) return fail(tok[0].column, "more than 256 fields");
       for (std::size_t i = 1; i < tok.size(); ++i) h.fields.emplace_back(tok[i].text);
       has_fields = true;

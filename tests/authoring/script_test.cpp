@@ -101,6 +101,26 @@ TEST(RunDocumentCommand, ErrorsNameTheLine) {
   EXPECT_NE(r.error().message.find("radiuss"), std::string::npos);
 }
 
+// Found by fuzz_script: ranking fewer items than there are wrote out of bounds
+// before the ranking was checked.
+TEST(RunDocumentCommand, RankingOfSomeItemsIsAnErrorNotACrash) {
+  for (const char* last : {"rank primitives c\n", "rank objects thing thing\n",
+                           "rank dimensions size_x size_y\n"}) {
+    EditorDocument doc;
+    auto lines = parse_script(std::string("add_object thing\nadd cylinder a\nadd sphere b\n"
+                                          "add box c\n") + last,
+                              "t.script");
+    ASSERT_TRUE(lines);
+    for (std::size_t i = 0; i + 1 < lines->size(); ++i)
+      ASSERT_TRUE(run_document_command(doc, (*lines)[i], "t.script"));
+    auto r = run_document_command(doc, lines->back(), "t.script");
+    ASSERT_FALSE(r) << last;
+    EXPECT_EQ(r.error().location.line, 5);
+    EXPECT_NE(r.error().message.find("a ranking must list every"), std::string::npos)
+        << r.error().format();
+  }
+}
+
 TEST(RunDocumentCommand, UnknownVerbIsLeftToTheApp) {
   EditorDocument doc;
   auto lines = parse_script("screenshot a.png\n", "t.script");

@@ -122,6 +122,28 @@ TEST_F(DepthPngTest, ClearErrorsNameTheFile) {
   EXPECT_EQ(g.error().location.origin, ok.string());
 }
 
+// Found by fuzz_depth_png: stb_image copied from a null buffer for an empty IDAT
+// chunk (legal PNG). It is left out now; a chunk longer than the file is an error.
+TEST_F(DepthPngTest, EmptyIdatChunksAndTruncatedChunks) {
+  std::vector<std::uint16_t> px = {1000, 2000, 3000, 4000};
+  std::string png = encode_grey_png(2, 2, 16, px);
+  std::string empty_idat;
+  test::put_chunk(empty_idat, "IDAT", "");
+  std::string with_empty = png;
+  with_empty.insert(8 + 25, empty_idat);  // after the 25-byte IHDR chunk
+  Result<DepthImage> d = read_depth_png(write("empty_idat.png", with_empty));
+  ASSERT_TRUE(d) << d.error().format();
+  EXPECT_EQ(d->depth_mm, px);
+
+  std::string cut = png.substr(0, png.size() - 20);
+  const fs::path p = write("cut.png", cut);
+  Result<DepthImage> t = read_depth_png(p);
+  ASSERT_FALSE(t);
+  EXPECT_EQ(t.error().location.origin, p.string());
+  EXPECT_NE(t.error().message.find("truncated PNG: chunk 'IDAT' claims"), std::string::npos)
+      << t.error().message;
+}
+
 TEST(ParseIntrinsics, RejectsMalformedLists) {
   EXPECT_FALSE(parse_intrinsics("525,525,319.5", 640, 480, "--intrinsics"));
   EXPECT_FALSE(parse_intrinsics("525,525,319.5,x", 640, 480, "--intrinsics"));

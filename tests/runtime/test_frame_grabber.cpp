@@ -307,6 +307,9 @@ TEST(PcdHeader, ErrorsCarryLineAndColumn) {
       {"hello world\n", 1, 1, "unexpected 'hello'"},
       {"FIELDS x\nSIZE 4\n", 3, 1, "ends before its DATA line"},
       {"FIELDS x\nSIZE 4", 2, 1, "ends before its DATA line"},
+      // Found by fuzz_pcd: a second FIELDS line once outgrew SIZE and TYPE.
+      {"FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nFIELDS a b c\n", 4, 1, "FIELDS given twice"},
+      {"FIELDS x\nSIZE 4\nTYPE F\nSIZE 4\n", 4, 1, "SIZE given twice"},
   };
   for (const Case& c : cases) {
     const Result<PcdHeader> h = parse_pcd_header(c.text, "t.pcd");

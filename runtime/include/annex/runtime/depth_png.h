@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <string_view>
 
 #include "annex/common/result.h"
 #include "annex/runtime/frame.h"
@@ -27,9 +28,17 @@ struct DepthPngParams {
 Result<DepthImage> read_depth_png(const std::filesystem::path& path,
                                   const DepthPngParams& params = {});
 
+// The same from a whole file held in memory; pure, for tests and the fuzz target.
+// Errors are located at `origin`.
+Result<DepthImage> decode_depth_png(std::string_view bytes, std::string_view origin,
+                                    const DepthPngParams& params = {});
+
 // Reads an 8-bit PNG (grey, grey+alpha, RGB or RGBA) as RGB.
 Result<ColorImage> read_color_png(const std::filesystem::path& path,
                                   const DepthPngParams& params = {});
+
+Result<ColorImage> decode_color_png(std::string_view bytes, std::string_view origin,
+                                    const DepthPngParams& params = {});
 
 // A depth PNG (and optional colour PNG) back-projected through the intrinsics into
 // an organized frame. The depth image's size must match the intrinsics'.
