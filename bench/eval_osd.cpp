@@ -11,6 +11,9 @@
 // Per scene the scan time (median of --repeat runs) against the number of objects.
 // Usage: annex-eval-osd OSD_DIR [--expect FILE] [--config SCAN.conf] [--repeat N]
 //                       [--png-dir DIR] [--scenes FIRST-LAST] [--verbose]
+//                       [--method crease|none|lccp]
+// --method none scans without splitting clusters; lccp splits the unsplit clusters with
+// PCL's supervoxels + LCCP instead (segments only: no shapes, so no shape columns).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -25,6 +28,7 @@
 
 #include "annex/runtime/depth_png.h"
 #include "osd_eval.h"
+#include "osd_lccp.h"
 #include "annex/runtime/scan_overlay.h"
 #include "annex/runtime/scanner.h"
 
@@ -90,6 +94,7 @@ int main(int argc, char** argv) {
   std::optional<std::filesystem::path> config, png_dir;
   int repeat = 5, first = 0, last = 44;
   bool verbose = false;
+  std::string method = "crease";
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -113,6 +118,13 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "annex-eval-osd: --scenes wants FIRST-LAST, got '%s'\n", r.c_str());
         return 2;
       }
+    } else if (a == "--method") {
+      method = next();
+      if (method != "crease" && method != "none" && method != "lccp") {
+        std::fprintf(stderr, "annex-eval-osd: --method is crease, none or lccp, got '%s'\n",
+                     method.c_str());
+        return 2;
+      }
     } else if (a == "--verbose")
       verbose = true;
     else {
@@ -129,6 +141,7 @@ int main(int argc, char** argv) {
     }
     params = *p;
   }
+  if (method != "crease") params.segment.enabled = false;
   Result<OsdExpectations> expectations = read_osd_expectations_file(expect_path);
   if (!expectations) {
     std::fprintf(stderr, "%s\n", expectations.error().format().c_str());
@@ -152,13 +165,24 @@ int main(int argc, char** argv) {
     for (int r = 0; r < repeat; ++r) {
       const auto t0 = Clock::now();
       scan = scan_frame(scene->frame, params);
+      if (scan && method == "lccp") {
+        std::vector<ScanCluster> segments;
+        for (const ScanCluster& c : scan->clusters)
+          for (std::vector<int>& part : lccp_split(scene->frame, c.pixels)) {
+            ScanCluster sc;
+            sc.pixels = std::move(part);
+            if (sc.pixels.size() >= static_cast<size_t>(params.min_cluster_points))
+              segments.push_back(std::move(sc));
+          }
+        scan->clusters = std::move(segments);
+      }
       times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
     }
     const double ms = median(times);
     OsdSceneScore score;
     if (scan) {
       score = score_osd_scene(*scene, *scan, *expectations);
-      if (png_dir) {
+      if (png_dir && method != "lccp") {
         const Status s = write_png(*png_dir / (name + ".png"), draw_scan_overlay(scene->frame, *scan));
         if (!s) std::fprintf(stderr, "%s\n", s.error().format().c_str());
       }
