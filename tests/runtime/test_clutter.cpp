@@ -172,6 +172,34 @@ TEST(ClutterOsd, CanLyingBehindABoxIsACylinder) {
   for (const OsdObjectScore& o : s->objects) EXPECT_TRUE(o.shape_ok) << "object " << o.id << " " << o.reported;
 }
 
+// The upper box of learn20 and the jar of learn42 stand on the lower object's top: their
+// primitives start there, not at the table.
+void expect_one_on_top(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::path(ANNEX_SHARED_DIR) / "data/osd-learn";
+  if (!std::filesystem::exists(dir / (name + "_depth.png")))
+    GTEST_SKIP() << "../shared/data/osd-learn is absent: OSD test skipped";
+  Result<OsdScene> scene = read_osd_scene(dir, name);
+  ASSERT_TRUE(scene.ok()) << scene.error().format();
+  Result<ScanResult> scan = scan_frame(scene->frame);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  ASSERT_EQ(scan->scene.objects.size(), 2u);
+  std::vector<double> bottoms, tops;
+  for (const PhysicalObject& o : scan->scene.objects) {
+    ASSERT_FALSE(o.primitives.empty());
+    const PhysicalPrimitive& p = o.primitives[0];
+    const double h = p.dimensions_m.back();
+    const double mid = dot(scan->plane.normal, p.center) + scan->plane.d;
+    bottoms.push_back(mid - h / 2);
+    tops.push_back(mid + h / 2);
+  }
+  const size_t upper = bottoms[0] > bottoms[1] ? 0 : 1, lower = 1 - upper;
+  EXPECT_LT(bottoms[lower], 0.01) << name;  // on the table
+  EXPECT_NEAR(bottoms[upper], tops[lower], 0.015) << name;  // on the lower object's top
+}
+
+TEST(ClutterOsd, UpperBoxStandsOnTheLowerBoxTop) { expect_one_on_top("learn20"); }
+TEST(ClutterOsd, JarStandsOnTheTinTop) { expect_one_on_top("learn42"); }
+
 TEST(OsdExpectations, ErrorsNameLineAndColumn) {
   auto bad = parse_osd_expectations("learn1 2 box\nlearn1 x box\n", "e.txt");
   ASSERT_FALSE(bad.ok());

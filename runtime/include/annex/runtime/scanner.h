@@ -68,6 +68,8 @@ struct ScanParams {
   double part_share = 0.6;
   // Clusters split at concave creases and depth steps (object_segmenter.h).
   SegmenterParams segment;
+  // An object whose base sits on another object's top is fitted on that top face.
+  bool stack_on_objects = true;
   ShapeRecognizerParams shape;
   // Worker threads for the per-cluster stages (smoothing, shapes); results do not
   // depend on it.
