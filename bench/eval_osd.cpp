@@ -16,6 +16,7 @@
 // PCL's supervoxels + LCCP instead (segments only: no shapes, so no shape columns).
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -63,6 +64,13 @@ struct Tally {
     frustum_ok += s.frustum_ok;
   }
 };
+
+// CPU time of the process (all threads), steadier than wall time on a loaded machine.
+double cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return t.tv_sec * 1e3 + t.tv_nsec / 1e6;
+}
 
 std::string pct(int a, int b) {
   if (b == 0) return "    -";
@@ -151,8 +159,10 @@ int main(int argc, char** argv) {
 
   std::map<std::string, Tally> by_category;
   Tally all;
-  std::map<int, std::vector<double>> ms_by_objects;
-  std::vector<double> all_ms;
+  std::map<int, std::vector<double>> ms_by_objects, cpu_by_objects;
+  std::vector<double> all_ms, all_cpu;
+  std::map<std::string, std::vector<double>> stage_ms;
+  std::vector<std::string> stage_order;
   for (int n = first; n <= last; ++n) {
     const std::string name = "learn" + std::to_string(n);
     Result<OsdScene> scene = read_osd_scene(dir, name);
@@ -160,9 +170,10 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s\n", scene.error().format().c_str());
       return 2;
     }
-    std::vector<double> times;
+    std::vector<double> times, cpu_times;
     Result<ScanResult> scan = Error{"not run", {}};
     for (int r = 0; r < repeat; ++r) {
+      const double c0 = cpu_ms();
       const auto t0 = Clock::now();
       scan = scan_frame(scene->frame, params);
       if (scan && method == "lccp") {
@@ -177,8 +188,14 @@ int main(int argc, char** argv) {
         scan->clusters = std::move(segments);
       }
       times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      cpu_times.push_back(cpu_ms() - c0);
     }
-    const double ms = median(times);
+    if (scan)
+      for (const StageTime& st : scan->stages) {
+        if (!stage_ms.count(st.name)) stage_order.push_back(st.name);
+        stage_ms[st.name].push_back(st.ms);
+      }
+    const double ms = median(times), cpu = median(cpu_times);
     OsdSceneScore score;
     if (scan) {
       score = score_osd_scene(*scene, *scan, *expectations);
@@ -194,7 +211,9 @@ int main(int argc, char** argv) {
     by_category[category].add(score);
     all.add(score);
     ms_by_objects[score.labelled].push_back(ms);
+    cpu_by_objects[score.labelled].push_back(cpu);
     all_ms.push_back(ms);
+    all_cpu.push_back(cpu);
     std::printf("%-8s %-9s objects=%d found=%d reported=%d whole=%d fragments=%d merges=%d "
                 "shape_ok=%d/%d scan_ms=%.1f\n",
                 name.c_str(), category.c_str(), score.labelled, score.found, score.reported,
@@ -209,11 +228,17 @@ int main(int argc, char** argv) {
   for (const char* c : {"boxes", "stacked", "occluded", "round"})
     if (by_category.count(c)) print_row(c, by_category[c]);
   print_row("all", all);
-  std::printf("\nscan time against labelled objects (median over scenes of the per-scene median):\n");
+  std::printf("\nscan time against labelled objects (per scene the median of --repeat runs; "
+              "wall clock, and CPU time of both threads):\n");
   for (const auto& [objects, ms] : ms_by_objects)
-    std::printf("  objects=%d scenes=%zu median_ms=%.1f max_ms=%.1f\n", objects, ms.size(),
-                median(ms), *std::max_element(ms.begin(), ms.end()));
-  std::printf("  all scenes=%zu median_ms=%.1f max_ms=%.1f\n", all_ms.size(), median(all_ms),
-              all_ms.empty() ? 0.0 : *std::max_element(all_ms.begin(), all_ms.end()));
+    std::printf("  objects=%d scenes=%zu median_ms=%.1f max_ms=%.1f cpu_median_ms=%.1f\n", objects,
+                ms.size(), median(ms), *std::max_element(ms.begin(), ms.end()),
+                median(cpu_by_objects[objects]));
+  std::printf("  all scenes=%zu median_ms=%.1f max_ms=%.1f cpu_median_ms=%.1f\n", all_ms.size(),
+              median(all_ms), all_ms.empty() ? 0.0 : *std::max_element(all_ms.begin(), all_ms.end()),
+              median(all_cpu));
+  std::printf("  stages (median over scenes, last run, wall ms):");
+  for (const std::string& st : stage_order) std::printf(" %s=%.1f", st.c_str(), median(stage_ms[st]));
+  std::printf("\n");
   return 0;
 }
