@@ -10,6 +10,7 @@
 #include "annex/runtime/scanner.h"
 
 #include "annex/runtime/object_segmenter.h"
+#include "occlusion_join.h"
 #include "stacking.h"
 
 #include <Eigen/Dense>
@@ -689,6 +690,20 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   });
   restack(result, normals, params);
   merge_parts(f, params, result, label, normals);
+  if (params.join_occluded) {
+    // Pieces of one object either side of a nearer one become one (occlusion_join.h).
+    std::fill(label.begin(), label.end(), -1);
+    for (size_t c = 0; c < result.clusters.size(); ++c)
+      for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
+    join_occluded_pieces(
+        f, result.clusters, label,
+        [&](ScanCluster& sc, int id) {
+          std::vector<Vec3> n;
+          smooth_cluster(f, sc.pixels, label, id, params, sc.points, n);
+          sc.shape = recognize_object_shape(sc.points, n, result.plane, params.shape);
+        },
+        params.shape.min_coverage);
+  }
   for (const ScanCluster& sc : result.clusters) {
     PhysicalObject obj;
     for (const ShapeFit& fit : sc.shape.primitives) obj.primitives.push_back(fit.primitive);

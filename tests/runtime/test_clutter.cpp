@@ -165,6 +165,12 @@ TEST(ClutterOsd, ThreeStackedBoxesAreThreeBoxes) { expect_all_whole("learn22", 3
 TEST(ClutterOsd, BoxLeaningOnABoxIsTwoBoxes) { expect_all_whole("learn25", 2); }
 TEST(ClutterOsd, JarOnATinIsTwoCylinders) { expect_all_whole("learn42", 2); }
 TEST(ClutterOsd, CanLyingOnTheTableIsACylinder) { expect_all_whole("learn43", 3); }
+// The box behind a standing can shows either side of it: one box, not two pieces.
+TEST(ClutterOsd, BoxSeenEitherSideOfACanIsOneBox) {
+  expect_all_whole("learn31", 2);
+  const auto s = score_scene("learn31");
+  if (s) EXPECT_EQ(s->fragments, 0);
+}
 TEST(ClutterOsd, CanLyingBehindABoxIsACylinder) {
   const auto s = score_scene("learn30");
   if (!s) GTEST_SKIP() << "../shared/data/osd-learn is absent: OSD test skipped";
