@@ -11,8 +11,12 @@
 // Per scene the scan time (median of --repeat runs) against the number of objects.
 // Usage: annex-eval-osd OSD_DIR [--expect FILE] [--config SCAN.conf] [--repeat N]
 //                       [--png-dir DIR] [--scenes FIRST-LAST] [--verbose]
+//                       [--method crease|none|lccp]
+// --method none scans without splitting clusters; lccp splits the unsplit clusters with
+// PCL's supervoxels + LCCP instead (segments only: no shapes, so no shape columns).
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -25,6 +29,7 @@
 
 #include "annex/runtime/depth_png.h"
 #include "osd_eval.h"
+#include "osd_lccp.h"
 #include "annex/runtime/scan_overlay.h"
 #include "annex/runtime/scanner.h"
 
@@ -60,6 +65,13 @@ struct Tally {
   }
 };
 
+// CPU time of the process (all threads), steadier than wall time on a loaded machine.
+double cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return t.tv_sec * 1e3 + t.tv_nsec / 1e6;
+}
+
 std::string pct(int a, int b) {
   if (b == 0) return "    -";
   char t[32];
@@ -90,6 +102,7 @@ int main(int argc, char** argv) {
   std::optional<std::filesystem::path> config, png_dir;
   int repeat = 5, first = 0, last = 44;
   bool verbose = false;
+  std::string method = "crease";
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -113,6 +126,13 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "annex-eval-osd: --scenes wants FIRST-LAST, got '%s'\n", r.c_str());
         return 2;
       }
+    } else if (a == "--method") {
+      method = next();
+      if (method != "crease" && method != "none" && method != "lccp") {
+        std::fprintf(stderr, "annex-eval-osd: --method is crease, none or lccp, got '%s'\n",
+                     method.c_str());
+        return 2;
+      }
     } else if (a == "--verbose")
       verbose = true;
     else {
@@ -129,6 +149,7 @@ int main(int argc, char** argv) {
     }
     params = *p;
   }
+  if (method != "crease") params.segment.enabled = false;
   Result<OsdExpectations> expectations = read_osd_expectations_file(expect_path);
   if (!expectations) {
     std::fprintf(stderr, "%s\n", expectations.error().format().c_str());
@@ -138,8 +159,10 @@ int main(int argc, char** argv) {
 
   std::map<std::string, Tally> by_category;
   Tally all;
-  std::map<int, std::vector<double>> ms_by_objects;
-  std::vector<double> all_ms;
+  std::map<int, std::vector<double>> ms_by_objects, cpu_by_objects;
+  std::vector<double> all_ms, all_cpu;
+  std::map<std::string, std::vector<double>> stage_ms;
+  std::vector<std::string> stage_order;
   for (int n = first; n <= last; ++n) {
     const std::string name = "learn" + std::to_string(n);
     Result<OsdScene> scene = read_osd_scene(dir, name);
@@ -147,18 +170,36 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s\n", scene.error().format().c_str());
       return 2;
     }
-    std::vector<double> times;
+    std::vector<double> times, cpu_times;
     Result<ScanResult> scan = Error{"not run", {}};
     for (int r = 0; r < repeat; ++r) {
+      const double c0 = cpu_ms();
       const auto t0 = Clock::now();
       scan = scan_frame(scene->frame, params);
+      if (scan && method == "lccp") {
+        std::vector<ScanCluster> segments;
+        for (const ScanCluster& c : scan->clusters)
+          for (std::vector<int>& part : lccp_split(scene->frame, c.pixels)) {
+            ScanCluster sc;
+            sc.pixels = std::move(part);
+            if (sc.pixels.size() >= static_cast<size_t>(params.min_cluster_points))
+              segments.push_back(std::move(sc));
+          }
+        scan->clusters = std::move(segments);
+      }
       times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      cpu_times.push_back(cpu_ms() - c0);
     }
-    const double ms = median(times);
+    if (scan)
+      for (const StageTime& st : scan->stages) {
+        if (!stage_ms.count(st.name)) stage_order.push_back(st.name);
+        stage_ms[st.name].push_back(st.ms);
+      }
+    const double ms = median(times), cpu = median(cpu_times);
     OsdSceneScore score;
     if (scan) {
       score = score_osd_scene(*scene, *scan, *expectations);
-      if (png_dir) {
+      if (png_dir && method != "lccp") {
         const Status s = write_png(*png_dir / (name + ".png"), draw_scan_overlay(scene->frame, *scan));
         if (!s) std::fprintf(stderr, "%s\n", s.error().format().c_str());
       }
@@ -170,7 +211,9 @@ int main(int argc, char** argv) {
     by_category[category].add(score);
     all.add(score);
     ms_by_objects[score.labelled].push_back(ms);
+    cpu_by_objects[score.labelled].push_back(cpu);
     all_ms.push_back(ms);
+    all_cpu.push_back(cpu);
     std::printf("%-8s %-9s objects=%d found=%d reported=%d whole=%d fragments=%d merges=%d "
                 "shape_ok=%d/%d scan_ms=%.1f\n",
                 name.c_str(), category.c_str(), score.labelled, score.found, score.reported,
@@ -185,11 +228,17 @@ int main(int argc, char** argv) {
   for (const char* c : {"boxes", "stacked", "occluded", "round"})
     if (by_category.count(c)) print_row(c, by_category[c]);
   print_row("all", all);
-  std::printf("\nscan time against labelled objects (median over scenes of the per-scene median):\n");
+  std::printf("\nscan time against labelled objects (per scene the median of --repeat runs; "
+              "wall clock, and CPU time of both threads):\n");
   for (const auto& [objects, ms] : ms_by_objects)
-    std::printf("  objects=%d scenes=%zu median_ms=%.1f max_ms=%.1f\n", objects, ms.size(),
-                median(ms), *std::max_element(ms.begin(), ms.end()));
-  std::printf("  all scenes=%zu median_ms=%.1f max_ms=%.1f\n", all_ms.size(), median(all_ms),
-              all_ms.empty() ? 0.0 : *std::max_element(all_ms.begin(), all_ms.end()));
+    std::printf("  objects=%d scenes=%zu median_ms=%.1f max_ms=%.1f cpu_median_ms=%.1f\n", objects,
+                ms.size(), median(ms), *std::max_element(ms.begin(), ms.end()),
+                median(cpu_by_objects[objects]));
+  std::printf("  all scenes=%zu median_ms=%.1f max_ms=%.1f cpu_median_ms=%.1f\n", all_ms.size(),
+              median(all_ms), all_ms.empty() ? 0.0 : *std::max_element(all_ms.begin(), all_ms.end()),
+              median(all_cpu));
+  std::printf("  stages (median over scenes, last run, wall ms):");
+  for (const std::string& st : stage_order) std::printf(" %s=%.1f", st.c_str(), median(stage_ms[st]));
+  std::printf("\n");
   return 0;
 }

@@ -7,6 +7,8 @@
 // sanity bounds and a margin for the more complex shapes (docs/perception.md).
 #include "annex/runtime/object_shape_recognizer.h"
 
+#include "cylinder_any_axis.h"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
@@ -889,6 +891,28 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
       best_score = score;
       best = static_cast<int>(i);
     }
+  }
+  // A cylinder lying on its side or leaning (cylinder_any_axis.h): it wins when it
+  // explains clearly more than the best shape standing upright and its side normals
+  // sweep round its axis rather than bunch into a box's faces.
+  std::optional<ShapeFit> any_axis;
+  if (s.has_normals) {
+    std::vector<Vec3> n3(s.p.size());
+    for (size_t i = 0; i < s.p.size(); ++i) n3[i] = frame.dir(s.na[i], s.nb[i], s.up[i]);
+    const AxisCylinderFit any = fit_cylinder_any_axis(s.xyz, n3, s.tol, params);
+    if (any.valid) {
+      out.candidates.push_back(any.fit);
+      const bool lying = std::abs(dot(any.fit.primitive.axis, frame.n)) < std::cos(kPi / 4);
+      const double beat = best >= 0 ? best_score + params.complexity_margin : 0.0;
+      if (lying && any.facetedness < params.max_round_facetedness &&
+          any.fit.coverage >= params.min_coverage && any.score > beat)
+        any_axis = any.fit;
+    }
+  }
+  if (any_axis) {
+    out.primitives.push_back(*any_axis);
+    out.fit = any_axis->coverage;
+    return out;
   }
   // Secondary primitive: the points above an upright body that it does not explain
   // (a bottle's shoulder and neck), fitted as a cone or cylinder over that band.

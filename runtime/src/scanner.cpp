@@ -10,6 +10,8 @@
 #include "annex/runtime/scanner.h"
 
 #include "annex/runtime/object_segmenter.h"
+#include "occlusion_join.h"
+#include "stacking.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -508,6 +510,23 @@ void merge_parts(const Frame& f, const ScanParams& params, ScanResult& result,
   result.clusters = std::move(kept);
 }
 
+// Objects standing on another object's top are fitted on that top (stacking.h).
+void restack(ScanResult& result, std::vector<std::vector<Vec3>>& normals, const ScanParams& params) {
+  if (!params.stack_on_objects || result.clusters.size() < 2) return;
+  std::vector<StackedObject> objects(result.clusters.size());
+  for (size_t c = 0; c < objects.size(); ++c) {
+    objects[c].points = std::move(result.clusters[c].points);
+    objects[c].normals = std::move(normals[c]);
+    objects[c].shape = std::move(result.clusters[c].shape);
+  }
+  fit_stacked_objects(objects, result.plane, params.shape);
+  for (size_t c = 0; c < objects.size(); ++c) {
+    result.clusters[c].points = std::move(objects[c].points);
+    normals[c] = std::move(objects[c].normals);
+    result.clusters[c].shape = std::move(objects[c].shape);
+  }
+}
+
 }  // namespace
 
 Vec3 effective_up(const ScanParams& params) {
@@ -673,7 +692,22 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     ScanCluster& sc = result.clusters[c];
     sc.shape = recognize_object_shape(sc.points, normals[c], result.plane, params.shape);
   });
+  restack(result, normals, params);
   merge_parts(f, params, result, label, normals);
+  if (params.join_occluded) {
+    // Pieces of one object either side of a nearer one become one (occlusion_join.h).
+    std::fill(label.begin(), label.end(), -1);
+    for (size_t c = 0; c < result.clusters.size(); ++c)
+      for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
+    join_occluded_pieces(
+        f, result.clusters, label,
+        [&](ScanCluster& sc, int id) {
+          std::vector<Vec3> n;
+          smooth_cluster(f, sc.pixels, label, id, params, sc.points, n);
+          sc.shape = recognize_object_shape(sc.points, n, result.plane, params.shape);
+        },
+        params.shape.min_coverage);
+  }
   for (const ScanCluster& sc : result.clusters) {
     PhysicalObject obj;
     for (const ShapeFit& fit : sc.shape.primitives) obj.primitives.push_back(fit.primitive);

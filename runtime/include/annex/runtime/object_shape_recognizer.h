@@ -36,6 +36,9 @@ struct ShapeRecognizerParams {
   // Score penalty for a round side (cylinder, cone) when the side normals bunch into
   // flat faces, and for a box when they spread around like a round side.
   double side_shape_penalty = 0.1;
+  // A cylinder in any orientation needs its side normals spread round its axis: the
+  // |mean of e^(4i psi)| of their angles below this (two faces of a box give ~1).
+  double max_round_facetedness = 0.5;
   // At most this many points enter the fits (a deterministic subsample).
   int max_fit_points = 800;
   std::uint64_t seed = 1;

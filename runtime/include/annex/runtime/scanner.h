@@ -69,6 +69,11 @@ struct ScanParams {
   double part_share = 0.6;
   // Clusters split at concave creases and depth steps (object_segmenter.h).
   SegmenterParams segment;
+  // An object whose base sits on another object's top is fitted on that top face.
+  bool stack_on_objects = true;
+  // Pieces of one shape either side of a nearer object, which one primitive explains
+  // together, are one object seen past an occluder.
+  bool join_occluded = true;
   ShapeRecognizerParams shape;
   // Worker threads for the per-cluster stages (smoothing, shapes); results do not
   // depend on it.

@@ -1,0 +1,168 @@
+// A cylinder in any orientation (cylinder_any_axis.h).
+#include "cylinder_any_axis.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+namespace annex {
+namespace {
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1)));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[k];
+}
+
+// Algebraic circle (Kasa) through 2D points with weights.
+bool kasa(const std::vector<Eigen::Vector2d>& q, const std::vector<double>& w, Eigen::Vector2d& c,
+          double& r) {
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < q.size(); ++i) {
+    if (w[i] <= 0) continue;
+    const Eigen::Vector3d row(q[i].x(), q[i].y(), 1.0);
+    A += w[i] * row * row.transpose();
+    b += w[i] * row * q[i].squaredNorm();
+  }
+  const Eigen::Vector3d x = A.ldlt().solve(b);
+  if (!x.allFinite()) return false;
+  c = Eigen::Vector2d(x(0) / 2, x(1) / 2);
+  const double r2 = x(2) + c.squaredNorm();
+  if (r2 <= 0) return false;
+  r = std::sqrt(r2);
+  return true;
+}
+
+// Length, coverage and score of the cylinder with this axis and cross-section.
+AxisCylinderFit finish(const std::vector<Vec3>& points, const std::vector<Eigen::Vector2d>& q,
+                       const std::vector<double>& s, const std::vector<double>& tol,
+                       const ShapeRecognizerParams& params, const Eigen::Vector3d& axis,
+                       const Eigen::Vector3d& e1, const Eigen::Vector3d& e2,
+                       const Eigen::Vector2d& c, double r, AxisCylinderFit out) {
+  const size_t n = points.size();
+  if (r < params.min_radius_m || r > params.max_radius_m) return out;
+  const double s0 = quantile(s, 0.01), s1 = quantile(s, 0.99);
+  const double half = (s1 - s0) / 2, mid = (s0 + s1) / 2;
+  if (half <= 0) return out;
+  double score = 0, covered = 0, sq = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const double rho = (q[i] - c).norm();
+    const double over = std::max(std::abs(s[i] - mid) - half, 0.0);
+    const double d_side = std::hypot(rho - r, over);
+    const double d_cap = std::hypot(std::max(0.0, rho - r), std::abs(s[i] - mid) - half);
+    const double d = std::min(d_side, d_cap);
+    if (d < tol[i]) {
+      const double e = d / tol[i];
+      score += 1 - e * e;
+      covered += 1;
+      sq += d * d;
+    }
+  }
+  const Eigen::Vector3d centre = e1 * c.x() + e2 * c.y() + axis * mid;
+  out.fit.primitive.kind = ShapeKind::cylinder;
+  out.fit.primitive.dimensions_m = {r, 2 * half};
+  out.fit.primitive.center = {centre.x(), centre.y(), centre.z()};
+  out.fit.primitive.axis = {axis.x(), axis.y(), axis.z()};
+  out.fit.x_axis = {e1.x(), e1.y(), e1.z()};
+  out.fit.coverage = covered / static_cast<double>(n);
+  out.fit.primitive.fit = out.fit.coverage;
+  out.fit.rms_m = covered > 0 ? std::sqrt(sq / covered) : 0;
+  out.score = score / static_cast<double>(n);
+  out.valid = true;
+  return out;
+}
+
+// One fit from a starting axis: the axis refined as the least eigenvector of the side
+// normals' scatter (normals within 66 degrees of the axis are caps and left out).
+AxisCylinderFit fit_from(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                         const std::vector<double>& tol, const ShapeRecognizerParams& params,
+                         Eigen::Vector3d axis) {
+  AxisCylinderFit out;
+  const size_t n = points.size();
+  std::vector<char> side(n, 0);
+  for (int round = 0; round < 3; ++round) {
+    Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+    int used = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d v(normals[i].x, normals[i].y, normals[i].z);
+      side[i] = v.norm() > 0.5 && std::abs(v.dot(axis)) < 0.4;
+      if (!side[i]) continue;
+      m += v * v.transpose();
+      ++used;
+    }
+    if (used < 30) return out;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(m);
+    // Side normals confined to one direction (a flat face) leave the axis undetermined.
+    if (es.eigenvalues()(1) < 0.05 * es.eigenvalues()(2)) return out;
+    axis = es.eigenvectors().col(0);
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d v(normals[i].x, normals[i].y, normals[i].z);
+    side[i] = v.norm() > 0.5 && std::abs(v.dot(axis)) < 0.4;
+  }
+  // Cross-section: points projected on the plane across the axis.
+  const Eigen::Vector3d seed = std::abs(axis.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d e1 = axis.cross(seed).normalized(), e2 = axis.cross(e1);
+  std::vector<Eigen::Vector2d> q(n);
+  std::vector<double> s(n), w(n);
+  double c4 = 0, s4 = 0;
+  int sides = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d p(points[i].x, points[i].y, points[i].z);
+    q[i] = Eigen::Vector2d(p.dot(e1), p.dot(e2));
+    s[i] = p.dot(axis);
+    w[i] = side[i] ? 1.0 : 0.0;
+    if (side[i]) {
+      const Eigen::Vector3d v(normals[i].x, normals[i].y, normals[i].z);
+      const double psi = std::atan2(v.dot(e2), v.dot(e1));
+      c4 += std::cos(4 * psi);
+      s4 += std::sin(4 * psi);
+      ++sides;
+    }
+  }
+  if (sides < 30) return out;
+  out.facetedness = std::sqrt(c4 * c4 + s4 * s4) / sides;
+  Eigen::Vector2d c;
+  double r = 0;
+  if (!kasa(q, w, c, r)) return out;
+  // Reweighted: points far from the circle (a label's edge, a neighbour's sliver) drop.
+  for (int round = 0; round < 4; ++round) {
+    for (size_t i = 0; i < n; ++i) {
+      if (!side[i]) continue;
+      const double e = ((q[i] - c).norm() - r) / (2 * tol[i]);
+      w[i] = std::abs(e) < 1 ? (1 - e * e) * (1 - e * e) : 0.0;
+    }
+    if (!kasa(q, w, c, r)) return out;
+  }
+  return finish(points, q, s, tol, params, axis, e1, e2, c, r, out);
+}
+
+}  // namespace
+
+AxisCylinderFit fit_cylinder_any_axis(const std::vector<Vec3>& points,
+                                      const std::vector<Vec3>& normals,
+                                      const std::vector<double>& tol,
+                                      const ShapeRecognizerParams& params) {
+  const size_t n = points.size();
+  if (n < 30 || normals.size() != n || tol.size() != n) return {};
+  // Two starting axes from the scatter of all normals: its least direction when the
+  // side dominates what is seen (a can lying across the view), its main direction when
+  // a cap does (a tin standing on its edge, lid to the camera).
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  for (const Vec3& v3 : normals) {
+    const Eigen::Vector3d v(v3.x, v3.y, v3.z);
+    if (v.norm() > 0.5) m += v * v.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(m);
+  AxisCylinderFit best;
+  for (int k : {0, 2}) {
+    AxisCylinderFit f = fit_from(points, normals, tol, params, es.eigenvectors().col(k));
+    if (f.valid && (!best.valid || f.score > best.score)) best = f;
+  }
+
+  return best;
+}
+
+}  // namespace annex

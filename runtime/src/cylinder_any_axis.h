@@ -1,0 +1,29 @@
+#pragma once
+// A cylinder in any orientation (a can, a tin or a jar lying on its side, a bottle
+// leaning), for ObjectShapeRecognizer: the axis is the direction every side normal is
+// perpendicular to, the cross-section a circle fitted across it. Private to runtime.
+
+#include <vector>
+
+#include "annex/common/physical_scene.h"
+#include "annex/runtime/object_shape_recognizer.h"
+
+namespace annex {
+
+struct AxisCylinderFit {
+  bool valid = false;
+  ShapeFit fit;          // kind cylinder, dimensions {radius, length}, axis, coverage
+  double score = 0;      // MSAC score, 1 - (d / tol)^2 per explained point, over all points
+  // |mean of e^(4i psi)| over the side normals' angles psi about the axis: near 1 when
+  // they bunch into two faces 90 degrees apart (a box seen along an edge), near 0 when
+  // they sweep round (a cylinder seen over a quarter turn or more).
+  double facetedness = 1;
+};
+
+// points, normals (same size, unit, 0 where unknown) and per-point tolerances.
+AxisCylinderFit fit_cylinder_any_axis(const std::vector<Vec3>& points,
+                                      const std::vector<Vec3>& normals,
+                                      const std::vector<double>& tolerance,
+                                      const ShapeRecognizerParams& params);
+
+}  // namespace annex

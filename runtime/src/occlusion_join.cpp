@@ -1,0 +1,102 @@
+// Joining the pieces of an occluded object (occlusion_join.h).
+#include "occlusion_join.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace annex {
+namespace {
+
+struct Piece {
+  double u = 0, v = 0, z = 0;  // mean image position, median depth
+};
+
+Piece describe(const Frame& f, const ScanCluster& c) {
+  Piece p;
+  std::vector<float> z;
+  for (int i : c.pixels) {
+    p.u += i % f.width;
+    p.v += i / f.width;
+    z.push_back(f.points[i].z);
+  }
+  if (c.pixels.empty()) return p;
+  p.u /= c.pixels.size();
+  p.v /= c.pixels.size();
+  std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
+  p.z = z[z.size() / 2];
+  return p;
+}
+
+}  // namespace
+
+void join_occluded_pieces(const Frame& f, std::vector<ScanCluster>& clusters,
+                          std::vector<int>& label,
+                          const std::function<void(ScanCluster&, int)>& refit,
+                          double min_coverage, const OcclusionJoinParams& params) {
+  const size_t n = clusters.size();
+  if (n < 3 || !f.organized()) return;
+  std::vector<Piece> pieces(n);
+  for (size_t k = 0; k < n; ++k) pieces[k] = describe(f, clusters[k]);
+  std::vector<char> gone(n, 0);
+  for (size_t a = 0; a < n; ++a) {
+    for (size_t b = a + 1; b < n; ++b) {
+      if (gone[a] || gone[b]) continue;
+      const ScanCluster& A = clusters[a];
+      const ScanCluster& B = clusters[b];
+      if (A.shape.primitives.empty() || B.shape.primitives.empty()) continue;
+      if (A.shape.primitives[0].primitive.kind != B.shape.primitives[0].primitive.kind) continue;
+      // Along the image segment between the pieces' centres, every pixel that is
+      // neither piece must be nearer than both (the occluder) or have no depth (the
+      // occluder's shadow on the structured light); a pixel of the table or of a
+      // farther object shows the gap, and they are two objects.
+      const double du = pieces[b].u - pieces[a].u, dv = pieces[b].v - pieces[a].v;
+      const int steps = std::max(2, static_cast<int>(std::hypot(du, dv)));
+      const double far_z = std::min(pieces[a].z, pieces[b].z) - params.min_occluder_gap_m;
+      bool covered = true, occluder = false;
+      for (int s = 1; s < steps && covered; ++s) {
+        const int u = static_cast<int>(std::lround(pieces[a].u + du * s / steps));
+        const int v = static_cast<int>(std::lround(pieces[a].v + dv * s / steps));
+        const size_t i = static_cast<size_t>(v) * f.width + u;
+        const int l = label[i];
+        if (l == static_cast<int>(a) || l == static_cast<int>(b)) continue;
+        const PointXYZRGB& q = f.points[i];
+        if (!std::isfinite(q.z) || q.z <= 0) continue;  // no depth: the occluder's shadow
+        if (q.z < far_z) {
+          occluder = true;
+          continue;
+        }
+        covered = false;
+      }
+      if (!covered || !occluder) continue;
+      // One primitive of the same kind must explain both pieces together.
+      ScanCluster joint;
+      joint.pixels = A.pixels;
+      joint.pixels.insert(joint.pixels.end(), B.pixels.begin(), B.pixels.end());
+      std::sort(joint.pixels.begin(), joint.pixels.end());
+      for (int i : B.pixels) label[i] = static_cast<int>(a);
+      refit(joint, static_cast<int>(a));
+      const double worse = std::min(A.shape.fit, B.shape.fit);
+      const bool same = !joint.shape.primitives.empty() &&
+                        joint.shape.primitives[0].primitive.kind == A.shape.primitives[0].primitive.kind;
+      if (same && joint.shape.fit >= min_coverage && joint.shape.fit >= worse - params.coverage_slack) {
+        clusters[a] = std::move(joint);
+        pieces[a] = describe(f, clusters[a]);
+        gone[b] = 1;
+      } else {
+        for (int i : B.pixels) label[i] = static_cast<int>(b);
+      }
+    }
+  }
+  std::vector<ScanCluster> kept;
+  std::vector<int> new_id(n, -1);
+  for (size_t k = 0; k < n; ++k)
+    if (!gone[k]) {
+      new_id[k] = static_cast<int>(kept.size());
+      kept.push_back(std::move(clusters[k]));
+    }
+  for (int& l : label)
+    if (l >= 0) l = new_id[l];
+  clusters = std::move(kept);
+}
+
+}  // namespace annex

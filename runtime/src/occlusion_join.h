@@ -1,0 +1,30 @@
+#pragma once
+// An object seen in two pieces either side of a nearer one (a box behind a standing can,
+// a can lying behind a box) is one object: pieces of the same shape whose image gap is
+// covered by a nearer object, and which one primitive explains together, are joined.
+// Private to the scanner.
+
+#include <functional>
+#include <vector>
+
+#include "annex/runtime/frame.h"
+#include "annex/runtime/scanner.h"
+
+namespace annex {
+
+struct OcclusionJoinParams {
+  // The occluder must be this much nearer than both pieces.
+  double min_occluder_gap_m = 0.02;
+  // The joint fit may explain this much less than the worse piece's own fit.
+  double coverage_slack = 0.05;
+};
+
+// clusters: the scan's objects; label: cluster index per pixel (-1 none), kept up to
+// date; refit(cluster, id) smooths and fits a grown cluster again. Joined pieces are
+// removed from `clusters`.
+void join_occluded_pieces(const Frame& frame, std::vector<ScanCluster>& clusters,
+                          std::vector<int>& label,
+                          const std::function<void(ScanCluster&, int)>& refit,
+                          double min_coverage, const OcclusionJoinParams& params = {});
+
+}  // namespace annex

@@ -1,0 +1,227 @@
+// Clutter: the object segmenter on analytic depth images (a concave crease splits, a
+// convex ridge and a bowl's smooth hollow do not), cylinders lying on their side, and
+// OSD learning scenes with fixed expectations (skipped when ../shared is absent).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <random>
+
+#include "annex/runtime/object_segmenter.h"
+#include "annex/runtime/object_shape_recognizer.h"
+#include "annex/runtime/scanner.h"
+#include "osd_eval.h"
+
+namespace annex {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// An organized Kinect frame of a surface given as depth along each pixel's ray:
+// depth(u', v') with u' = (u - cx) / fx, v' = (v - cy) / fy; NaN outside the patch.
+Frame depth_frame(const std::function<double(double, double)>& depth, double sigma,
+                  std::uint64_t seed) {
+  const CameraIntrinsics k;
+  Frame f;
+  f.width = k.width;
+  f.height = k.height;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0, sigma);
+  for (int v = 0; v < k.height; ++v)
+    for (int u = 0; u < k.width; ++u) {
+      const double a = (u - k.cx) / k.fx, b = (v - k.cy) / k.fy;
+      double z = depth(a, b);
+      PointXYZRGB p;
+      if (!std::isfinite(z)) {
+        p.x = p.y = p.z = std::numeric_limits<float>::quiet_NaN();
+      } else {
+        z += noise(rng);
+        p.x = static_cast<float>(a * z);
+        p.y = static_cast<float>(b * z);
+        p.z = static_cast<float>(z);
+      }
+      f.points.push_back(p);
+    }
+  return f;
+}
+
+// The valid pixels of the frame on the grid of `step`, as the scanner clusters them.
+std::vector<int> grid_of(const Frame& f, int step) {
+  std::vector<int> out;
+  for (int y = 0; y < f.height; y += step)
+    for (int x = 0; x < f.width; x += step)
+      if (std::isfinite(f.points[static_cast<size_t>(y) * f.width + x].z))
+        out.push_back(y * f.width + x);
+  return out;
+}
+
+// A 20 x 20 cm patch 1 m away (|X|, |Y| < 0.1 m at z ~ 1).
+bool in_patch(double a, double b) { return std::abs(a) < 0.1 && std::abs(b) < 0.1; }
+
+TEST(ObjectSegmenter, ConcaveCreaseSplitsTwoFaces) {
+  // Two faces at 45 degrees to the view meeting in a valley 1 m away: z = 1 / (1 + |u'|).
+  const Frame f = depth_frame(
+      [](double a, double b) { return in_patch(a, b) ? 1.0 / (1.0 + std::abs(a)) : NAN; }, 0.001, 1);
+  const auto parts = split_cluster(f, grid_of(f, 2), 2, 0.02);
+  ASSERT_EQ(parts.size(), 2u);
+  // Each part lies on one side of the crease.
+  for (const auto& part : parts) {
+    int left = 0;
+    for (int i : part) left += i % f.width < 320;
+    EXPECT_TRUE(left < 0.05 * part.size() || left > 0.95 * part.size());
+  }
+}
+
+TEST(ObjectSegmenter, ConvexRidgeAndSmoothHollowStayWhole) {
+  // A box's edge towards the camera: z = 1 / (1 - |u'|).
+  const Frame ridge = depth_frame(
+      [](double a, double b) { return in_patch(a, b) ? 1.0 / (1.0 - std::abs(a)) : NAN; }, 0.001, 2);
+  EXPECT_EQ(split_cluster(ridge, grid_of(ridge, 2), 2, 0.02).size(), 1u);
+  // A bowl's inside, 7 cm radius, seen from above: its rim nearer than its bottom.
+  const Frame bowl = depth_frame(
+      [](double a, double b) {
+        const double r2 = a * a + b * b;
+        return r2 < 0.05 * 0.05 ? 0.9 - r2 / (2 * 0.07) + 0.07 : NAN;
+      },
+      0.001, 3);
+  EXPECT_EQ(split_cluster(bowl, grid_of(bowl, 2), 2, 0.02).size(), 1u);
+  // Turned off, even the crease stays one cluster.
+  const Frame valley = depth_frame(
+      [](double a, double b) { return in_patch(a, b) ? 1.0 / (1.0 + std::abs(a)) : NAN; }, 0.001, 4);
+  SegmenterParams off;
+  off.enabled = false;
+  EXPECT_EQ(split_cluster(valley, grid_of(valley, 2), 2, 0.02, off).size(), 1u);
+}
+
+TEST(ObjectSegmenter, DepthStepSplitsAnObjectFromTheOneBehind) {
+  // A near face 1 cm in front of a far one on the left half: a step under the 2 cm
+  // clustering tolerance, so one Euclidean cluster.
+  const Frame f = depth_frame(
+      [](double a, double b) { return in_patch(a, b) ? (a < 0 ? 0.99 : 1.0) : NAN; }, 0.0005, 5);
+  EXPECT_EQ(split_cluster(f, grid_of(f, 2), 2, 0.02).size(), 2u);
+}
+
+// The visible side of a cylinder of radius r lying on the table y = 0.4 (camera frame,
+// y down) with its axis along `dir` (horizontal), centre of the axis at (x, z).
+TEST(ObjectShapeRecognizer, CylinderLyingOnItsSideHasItsAxisAlongTheTable) {
+  const Plane table{{0, -1, 0}, 0.4};
+  for (const double yaw_deg : {0.0, 35.0, 80.0}) {
+    const double yaw = yaw_deg * kPi / 180, r = 0.038, len = 0.22;
+    const Vec3 axis{std::cos(yaw), 0, std::sin(yaw)};
+    const Vec3 e1{0, -1, 0}, e2 = cross(axis, e1);
+    const Vec3 centre{0.05, 0.4 - r, 1.0};
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> noise(0, 0.0015);
+    std::vector<Vec3> pts, nrm;
+    for (int i = 0; i < 90; ++i)
+      for (int j = 0; j <= 40; ++j) {
+        const double t = 2 * kPi * i / 90, s = len * (j / 40.0 - 0.5);
+        const Vec3 radial = e1 * std::cos(t) + e2 * std::sin(t);
+        const Vec3 p = centre + axis * s + radial * r;
+        if (dot(radial, p) >= 0 || p.y > 0.4 - 0.012) continue;  // hidden, or in the table band
+        pts.push_back(p + normalized(p) * noise(rng));
+        nrm.push_back(radial);
+      }
+    const ObjectShape shape = recognize_object_shape(pts, nrm, table);
+    ASSERT_FALSE(shape.primitives.empty()) << yaw_deg;
+    const PhysicalPrimitive& p = shape.primitives[0].primitive;
+    EXPECT_EQ(p.kind, ShapeKind::cylinder) << yaw_deg;
+    EXPECT_NEAR(p.dimensions_m[0], r, 0.004) << yaw_deg;
+    EXPECT_NEAR(p.dimensions_m[1], len, 0.012) << yaw_deg;
+    EXPECT_GT(std::abs(dot(normalized(p.axis), axis)), 0.98) << yaw_deg;
+  }
+}
+
+// OSD learning scenes: the scan with default parameters against the labels.
+std::optional<OsdSceneScore> score_scene(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::path(ANNEX_SHARED_DIR) / "data/osd-learn";
+  if (!std::filesystem::exists(dir / (name + "_depth.png"))) return std::nullopt;
+  Result<OsdScene> scene = read_osd_scene(dir, name);
+  EXPECT_TRUE(scene.ok()) << scene.error().format();
+  if (!scene) return std::nullopt;
+  Result<OsdExpectations> expect =
+      read_osd_expectations_file(std::filesystem::path(ANNEX_SOURCE_DIR) / "bench/osd_expectations.txt");
+  EXPECT_TRUE(expect.ok()) << expect.error().format();
+  if (!expect) return std::nullopt;
+  Result<ScanResult> scan = scan_frame(scene->frame);
+  EXPECT_TRUE(scan.ok()) << scan.error().format();
+  if (!scan) return std::nullopt;
+  return score_osd_scene(*scene, *scan, *expect);
+}
+
+void expect_all_whole(const std::string& name, int objects) {
+  const auto s = score_scene(name);
+  if (!s) GTEST_SKIP() << "../shared/data/osd-learn is absent: OSD test skipped";
+  EXPECT_EQ(s->labelled, objects) << name;
+  EXPECT_EQ(s->found, objects) << name;
+  EXPECT_EQ(s->merges, 0) << name;
+  for (const OsdObjectScore& o : s->objects)
+    if (o.expected != "frustum") EXPECT_TRUE(o.shape_ok) << name << " object " << o.id << " " << o.reported;
+}
+
+TEST(ClutterOsd, BoxStandingOnABoxIsTwoBoxes) { expect_all_whole("learn20", 2); }
+TEST(ClutterOsd, ThreeStackedBoxesAreThreeBoxes) { expect_all_whole("learn22", 3); }
+TEST(ClutterOsd, BoxLeaningOnABoxIsTwoBoxes) { expect_all_whole("learn25", 2); }
+TEST(ClutterOsd, JarOnATinIsTwoCylinders) { expect_all_whole("learn42", 2); }
+TEST(ClutterOsd, CanLyingOnTheTableIsACylinder) { expect_all_whole("learn43", 3); }
+// The box behind a standing can shows either side of it: one box, not two pieces.
+TEST(ClutterOsd, BoxSeenEitherSideOfACanIsOneBox) {
+  expect_all_whole("learn31", 2);
+  const auto s = score_scene("learn31");
+  if (s) EXPECT_EQ(s->fragments, 0);
+}
+TEST(ClutterOsd, CanLyingBehindABoxIsACylinder) {
+  const auto s = score_scene("learn30");
+  if (!s) GTEST_SKIP() << "../shared/data/osd-learn is absent: OSD test skipped";
+  EXPECT_EQ(s->found, 2);
+  for (const OsdObjectScore& o : s->objects) EXPECT_TRUE(o.shape_ok) << "object " << o.id << " " << o.reported;
+}
+
+// The upper box of learn20 and the jar of learn42 stand on the lower object's top: their
+// primitives start there, not at the table.
+void expect_one_on_top(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::path(ANNEX_SHARED_DIR) / "data/osd-learn";
+  if (!std::filesystem::exists(dir / (name + "_depth.png")))
+    GTEST_SKIP() << "../shared/data/osd-learn is absent: OSD test skipped";
+  Result<OsdScene> scene = read_osd_scene(dir, name);
+  ASSERT_TRUE(scene.ok()) << scene.error().format();
+  Result<ScanResult> scan = scan_frame(scene->frame);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  ASSERT_EQ(scan->scene.objects.size(), 2u);
+  std::vector<double> bottoms, tops;
+  for (const PhysicalObject& o : scan->scene.objects) {
+    ASSERT_FALSE(o.primitives.empty());
+    const PhysicalPrimitive& p = o.primitives[0];
+    const double h = p.dimensions_m.back();
+    const double mid = dot(scan->plane.normal, p.center) + scan->plane.d;
+    bottoms.push_back(mid - h / 2);
+    tops.push_back(mid + h / 2);
+  }
+  const size_t upper = bottoms[0] > bottoms[1] ? 0 : 1, lower = 1 - upper;
+  EXPECT_LT(bottoms[lower], 0.01) << name;  // on the table
+  EXPECT_NEAR(bottoms[upper], tops[lower], 0.015) << name;  // on the lower object's top
+}
+
+TEST(ClutterOsd, UpperBoxStandsOnTheLowerBoxTop) { expect_one_on_top("learn20"); }
+TEST(ClutterOsd, JarStandsOnTheTinTop) { expect_one_on_top("learn42"); }
+
+TEST(OsdExpectations, ErrorsNameLineAndColumn) {
+  auto bad = parse_osd_expectations("learn1 2 box\nlearn1 x box\n", "e.txt");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().location.line, 2);
+  EXPECT_EQ(bad.error().location.column, 8);
+  bad = parse_osd_expectations("learn1 2 sphere\n", "e.txt");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().location.column, 10);
+  bad = parse_osd_expectations("learn1 2 box\nlearn1 2 box # again\n", "e.txt");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().location.line, 2);
+  const auto good = parse_osd_expectations("# c\nlearn1 2 box\n\nlearn1 3 cylinder", "e.txt");
+  ASSERT_TRUE(good.ok());
+  EXPECT_EQ(good->class_of("learn1", 3), "cylinder");
+  EXPECT_EQ(good->class_of("learn1", 4), "any");
+}
+
+}  // namespace
+}  // namespace annex
