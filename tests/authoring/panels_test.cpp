@@ -358,6 +358,49 @@ TEST_F(HeadlessPanels, TutorialBoxSelectionByHandFitsTheBody) {
   EXPECT_GT(std::abs(body.pose.axis().y), std::cos(1.0 * 3.14159265 / 180));  // within 1 degree
   EXPECT_NEAR(body.pose.position.x, 0, 0.002);
   EXPECT_NEAR(body.pose.position.z, 0, 0.002);
+
+  // Step 3, the neck: "Add primitive: cone", Ctrl+drag from the shoulder to above the
+  // top, snap the axis up, "Fit to box selection": a cone standing up, apex (+Z) on top.
+  const auto add_cone = locate("Inspector", "cone");
+  ASSERT_TRUE(add_cone.has_value());
+  click(*add_cone);
+  ASSERT_EQ(doc.selection().primitive, 1);
+  ImVec2 top;
+  ASSERT_TRUE(project(mvp, vp, glm::vec3(0, 0.3f, 0), top));
+  const ImVec2 neck_from(left - 12, mark.y - 2), neck_to(right + 12, top.y - 12);
+  ImGui::GetIO().KeyCtrl = true;
+  frame(neck_from, false);
+  frame(neck_from, true);
+  for (int i = 1; i <= 4; ++i)
+    frame(ImVec2(neck_from.x + (neck_to.x - neck_from.x) * i / 4,
+                 neck_from.y + (neck_to.y - neck_from.y) * i / 4),
+          true);
+  frame(neck_to, false);
+  ImGui::GetIO().KeyCtrl = false;
+  // The neck curves (no cone's straight side), so its axis is snapped to the object's
+  // up, as the tutorial says: the combo beside the shape, by hand.
+  const auto snap = locate("Inspector", "##snap");
+  ASSERT_TRUE(snap.has_value());
+  click(*snap);
+  const auto up = locate("##Combo", "axis: object up (+Y)", {1});  // Combo PushID()s each item
+  ASSERT_TRUE(up.has_value());
+  click(*up);
+  ASSERT_EQ(ui.fit_snap, AxisSnap::object_up);
+  const std::string neck_label =
+      "Fit to box selection (" + std::to_string(ui.box_points.size()) + " points)";
+  const auto fit_neck = locate("Inspector", neck_label.c_str());
+  ASSERT_TRUE(fit_neck.has_value()) << neck_label;
+  click(*fit_neck);
+  const Primitive& neck = doc.spec().objects.at(0).primitives.at(1);
+  std::printf("neck by hand: radius %.2f cm, height %.2f cm, axis y %.4f\n",
+              neck.dimensions[0].value_m * 100, neck.dimensions[1].value_m * 100,
+              neck.pose.axis().y);
+  EXPECT_EQ(neck.kind, ShapeKind::cone);
+  EXPECT_GT(neck.pose.axis().y, std::cos(3.0 * 3.14159265 / 180));  // up, apex at the top
+  EXPECT_NEAR(neck.dimensions[0].value_m, 0.045, 0.004);  // the shoulder's radius
+  // From the shoulder to the top (30 cm): the rectangle's lower edge meets the front at
+  // 19 cm and the sides, seen from above, lower.
+  EXPECT_NEAR(neck.dimensions[1].value_m, 0.115, 0.015);
 }
 
 }  // namespace
