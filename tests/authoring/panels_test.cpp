@@ -273,6 +273,34 @@ TEST_F(HeadlessPanels, HandleDragMovesThePrimitiveInOneUndoStep) {
 }
 
 
+// At 1280x720 every Inspector button can be reached: the add buttons wrap (torus and box
+// were past the panel's edge), the third handle option has its own line.
+TEST_F(HeadlessPanels, At1280x720EveryInspectorButtonIsReachable) {
+  ImGui::GetIO().DisplaySize = ImVec2(1280, 720);
+  ASSERT_TRUE(doc.apply(cmd::Select{{0, 0}}));
+  frame(ImVec2(-100, -100), false);
+  for (const char* label : {"sphere", "cylinder", "cone", "torus", "box", "move", "rotate", "size"})
+    EXPECT_TRUE(locate("Inspector", label).has_value()) << label;
+}
+
+// Frame selected points the camera at the selected object, not at all of them.
+TEST_F(HeadlessPanels, FrameSelectedCentresTheSelectedObject) {
+  ASSERT_TRUE(doc.apply(cmd::AddObject{"second"}));
+  ASSERT_TRUE(doc.apply(cmd::AddPrimitive{1, ShapeKind::sphere, std::nullopt, "ball"}));
+  frame(ImVec2(-100, -100), false);
+  frame_all(doc, ui);
+  const glm::vec3 all(ui.camera.target[0], ui.camera.target[1], ui.camera.target[2]);
+  ASSERT_TRUE(doc.apply(cmd::Select{{1, -1}}));
+  frame_selected(doc, ui);
+  const glm::vec3 one(ui.camera.target[0], ui.camera.target[1], ui.camera.target[2]);
+  const std::vector<Placement> placed = place_objects(doc, ui);
+  glm::vec3 where(0);
+  for (const Placement& p : placed)
+    if (p.object == 1) where = glm::vec3(p.model[3]);
+  EXPECT_GT(glm::length(one - all), 1e-3f);
+  EXPECT_LT(std::abs(one.x - where.x), 0.06f);
+}
+
 // A spec that does not parse: the modal shows its file:line:column error until OK.
 TEST_F(HeadlessPanels, ABrokenSpecShowsItsErrorInAModal) {
   ui.prompts.open_error = "bad.haptic:4:12: error: radius must be positive, found -0.1";
