@@ -391,6 +391,65 @@ std::optional<Vec3> axis_from_normals(std::span<const Vec3> normals) {
   return refined ? refined : first;
 }
 
+// A surface of revolution's normal lines all meet its axis (a bottle's curved neck as
+// much as a cylinder or a cone): the axis is the line (direction a through c) that
+// minimises sum ((p - c) . (n x a))^2, relative to sum |n x a|^2 so that directions along
+// many normals gain nothing. For each direction c is a 2x2 least-squares solve; the
+// direction is searched within 40 degrees of `start` (2-degree steps, then 0.2).
+std::optional<Vec3> revolution_axis(std::span<const Vec3> points, std::span<const Vec3> normals,
+                                    Vec3 start) {
+  const std::size_t stride = std::max<std::size_t>(1, points.size() / 3000);
+  Vec3 centroid{};
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < points.size(); i += stride, ++n) centroid = centroid + points[i];
+  if (n < 10) return std::nullopt;
+  centroid = centroid * (1.0 / static_cast<double>(n));
+  auto cost = [&](Vec3 a) {
+    const Vec3 e0 = normalized(std::abs(a.x) < 0.9 ? cross(a, Vec3{1, 0, 0}) : cross(a, Vec3{0, 1, 0}));
+    const Vec3 e1 = cross(a, e0);
+    double s00 = 0, s01 = 0, s11 = 0, b0 = 0, b1 = 0, bb = 0, mm = 0;
+    for (std::size_t i = 0; i < points.size(); i += stride) {
+      const Vec3 m = cross(normals[i], a);
+      const double r = dot(points[i] - centroid, m), g0 = dot(e0, m), g1 = dot(e1, m);
+      s00 += g0 * g0;
+      s01 += g0 * g1;
+      s11 += g1 * g1;
+      b0 += g0 * r;
+      b1 += g1 * r;
+      bb += r * r;
+      mm += dot(m, m);
+    }
+    const double det = s00 * s11 - s01 * s01;
+    if (!(mm > 0) || !(std::abs(det) > 1e-18)) return std::numeric_limits<double>::infinity();
+    const double u = (b0 * s11 - b1 * s01) / det, v = (s00 * b1 - s01 * b0) / det;
+    // The residual sum of squares at the best c, relative to the normals' leverage.
+    return (bb - u * b0 - v * b1) / mm;
+  };
+  auto search = [&](Vec3 centre, double radius_deg, double step_deg) {
+    const Vec3 a0 = normalized(centre);
+    const Vec3 e0 =
+        normalized(std::abs(a0.x) < 0.9 ? cross(a0, Vec3{1, 0, 0}) : cross(a0, Vec3{0, 1, 0}));
+    const Vec3 e1 = cross(a0, e0);
+    Vec3 best = a0;
+    double best_cost = cost(a0);
+    const double to_rad = 3.14159265358979323846 / 180;
+    for (double x = -radius_deg; x <= radius_deg + 1e-9; x += step_deg)
+      for (double y = -radius_deg; y <= radius_deg + 1e-9; y += step_deg) {
+        if (x * x + y * y > radius_deg * radius_deg) continue;
+        const Vec3 a = normalized(a0 + e0 * std::tan(x * to_rad) + e1 * std::tan(y * to_rad));
+        const double c = cost(a);
+        if (c < best_cost) {
+          best_cost = c;
+          best = a;
+        }
+      }
+    return best;
+  };
+  Vec3 a = search(start, 40, 2);
+  a = search(a, 2.2, 0.2);
+  return canonical_sign(a);
+}
+
 }  // namespace
 
 Result<FitResult> fit_primitive(std::span<const Vec3> points, ShapeKind kind,
@@ -403,7 +462,8 @@ Result<FitResult> fit_primitive(std::span<const Vec3> points, ShapeKind kind,
   std::optional<Vec3> fixed_axis = snapped ? options.axis : std::nullopt;
   const bool axial = kind == ShapeKind::cylinder || kind == ShapeKind::cone;
   if (!snapped && axial && options.normals.size() == points.size())
-    fixed_axis = axis_from_normals(options.normals);
+    if ((fixed_axis = axis_from_normals(options.normals)))
+      if (auto rev = revolution_axis(points, options.normals, *fixed_axis)) fixed_axis = rev;
   const Frame f = fixed_axis ? frame_about(points, *fixed_axis) : principal_frame(points);
   const Vec3 center = box_center(f);
   FitResult out;
