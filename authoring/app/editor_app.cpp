@@ -37,7 +37,8 @@ const char* kUsage =
     "  --script FILE   run editor commands from FILE with no person, then exit\n"
     "                  (exit 0: all lines ran; 1: a line failed)\n"
     "  --size WxH      window size in pixels (default 1600x900)\n"
-    "  --samples N     multisample anti-aliasing samples, 0 for none (default 4)\n";
+    "  --samples N     multisample anti-aliasing samples, 0 for none (default 4)\n"
+    "  --version       print the version\n";
 
 fs::path recent_file() {
   return state_dir() / "recent.txt";
@@ -97,6 +98,12 @@ std::optional<AppOptions> parse_options(int argc, char** argv, int& exit_code) {
     const std::string a = argv[i];
     if (a == "--help" || a == "-h") {
       std::cout << kUsage;
+      return std::nullopt;
+    }
+    if (a == "--version") {
+#ifdef ANNEX_VERSION
+      std::cout << "annex-author " << ANNEX_VERSION << "\n";
+#endif
       return std::nullopt;
     }
     if (a == "--script" || a == "--size" || a == "--samples") {

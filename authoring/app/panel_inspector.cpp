@@ -164,7 +164,7 @@ void draw_primitive(const EditorDocument& doc, UiState& ui, CommandQueue& queue,
   if (ImGui::Button("Duplicate")) queue.push(cmd::DuplicatePrimitive{o, p});
   ImGui::SameLine();
   if (ImGui::Button("Remove")) queue.push(cmd::RemovePrimitive{o, p});
-  ImGui::SameLine();
+  // On a line of their own: beside the buttons the third option ran past the panel.
   ImGui::TextDisabled("handles:");
   ImGui::SameLine();
   int mode = static_cast<int>(ui.gizmo);

@@ -423,6 +423,7 @@ void draw_viewport(const EditorDocument& doc, UiState& ui, CommandQueue& queue) 
   for (const Placement& p : placed) {
     ImVec2 s;
     if (!project(view_proj, vp, glm::vec3(p.model * glm::vec4(0, 0, 0, 1)), s)) continue;
+    if (!vp.contains(s)) continue;  // an object out of view keeps its name out of view too
     const VirtualObject& o = doc.spec().objects[p.object];
     const char* text = p.label != nullptr ? p.label : o.name.c_str();
     const ImVec2 size = ImGui::CalcTextSize(text);

@@ -160,7 +160,10 @@ bool solve_linear(double a[N][N], double b[N], double x[N]) {
 // The least-squares circle (Kasa) through the points projected onto the plane across
 // `axis` through `origin`: its centre in that plane. Unlike a bounding box's centre it
 // is right for part of a circle (a C-shaped handle, the visible half of a bottle).
-std::optional<Vec3> circle_center(std::span<const Vec3> pts, Vec3 origin, Vec3 axis) {
+// `taper`: the radius may change linearly along the axis (a cone, a bottle's neck), so
+// points at different heights are not forced onto one circle.
+std::optional<Vec3> circle_center(std::span<const Vec3> pts, Vec3 origin, Vec3 axis,
+                                  bool taper = false) {
   const Vec3 e0 = normalized(std::abs(axis.x) < 0.9 ? cross(axis, Vec3{1, 0, 0})
                                                     : cross(axis, Vec3{0, 1, 0}));
   const Vec3 e1 = cross(axis, e0);
@@ -185,23 +188,38 @@ std::optional<Vec3> circle_center(std::span<const Vec3> pts, Vec3 origin, Vec3 a
     r += std::hypot(dot(d, e0) - cu, dot(d, e1) - cv);
   }
   r /= static_cast<double>(pts.size());
+  double k = 0;  // radius change per metre along the axis
   for (int it = 0; it < 30; ++it) {
-    double jtj[3][3] = {}, jtr[3] = {}, step[3];
+    double jtj[4][4] = {}, jtr[4] = {}, step[4] = {};
     for (const Vec3& p : pts) {
       const Vec3 d = p - origin;
       const double du = dot(d, e0) - cu, dv = dot(d, e1) - cv, len = std::hypot(du, dv);
       if (len < 1e-12) continue;
-      const double j[3] = {-du / len, -dv / len, -1}, res = len - r;
-      for (int a = 0; a < 3; ++a) {
-        for (int b = 0; b < 3; ++b) jtj[a][b] += j[a] * j[b];
+      const double h = dot(d, axis);
+      const double j[4] = {-du / len, -dv / len, -1, -h}, res = len - (r + k * h);
+      for (int a = 0; a < 4; ++a) {
+        for (int b = 0; b < 4; ++b) jtj[a][b] += j[a] * j[b];
         jtr[a] -= j[a] * res;
       }
     }
-    if (!solve_linear<3>(jtj, jtr, step)) break;
+    bool solved = false;
+    if (taper) {
+      solved = solve_linear<4>(jtj, jtr, step);
+    } else {
+      double j3[3][3], r3[3];
+      for (int a = 0; a < 3; ++a) {
+        r3[a] = jtr[a];
+        for (int b = 0; b < 3; ++b) j3[a][b] = jtj[a][b];
+      }
+      solved = solve_linear<3>(j3, r3, step);
+    }
+    if (!solved) break;
     cu += step[0];
     cv += step[1];
     r += step[2];
-    if (std::abs(step[0]) + std::abs(step[1]) + std::abs(step[2]) < 1e-12) break;
+    k += step[3];
+    if (std::abs(step[0]) + std::abs(step[1]) + std::abs(step[2]) + std::abs(step[3]) < 1e-12)
+      break;
   }
   if (!std::isfinite(cu) || !std::isfinite(cv)) return std::nullopt;
   return origin + e0 * cu + e1 * cv;
@@ -222,6 +240,27 @@ std::optional<Vec3> sphere_center(std::span<const Vec3> pts, Vec3 origin) {
   return origin + Vec3{-0.5 * sol[0], -0.5 * sol[1], -0.5 * sol[2]};
 }
 
+// Whether the points go all the way round `axis` through `center` (every 30-degree
+// sector holds some): then the bounding box's centre is exact for a symmetric mesh,
+// where a circle fit to a filled disc of vertices (caps, seams) is not.
+bool surrounds(std::span<const Vec3> pts, Vec3 center, Vec3 axis) {
+  const Vec3 e0 = normalized(std::abs(axis.x) < 0.9 ? cross(axis, Vec3{1, 0, 0})
+                                                    : cross(axis, Vec3{0, 1, 0}));
+  const Vec3 e1 = cross(axis, e0);
+  int count[12] = {};
+  for (const Vec3& p : pts) {
+    const Vec3 d = p - center;
+    const double u = dot(d, e0), v = dot(d, e1);
+    if (u == 0 && v == 0) continue;
+    const double a = std::atan2(v, u) + 3.14159265358979323846;
+    ++count[std::min(11, static_cast<int>(a / (2 * 3.14159265358979323846) * 12))];
+  }
+  const double need = 0.005 * static_cast<double>(pts.size());
+  for (int c : count)
+    if (c < need) return false;
+  return true;
+}
+
 // A torus around a full ring or a C-shaped part of one (a mug handle): the spine
 // circle's centre is circle_center's, so a partial arc finds its true centre, not its
 // bounding box's. The major radius is the points' mean distance from that centre in
@@ -234,7 +273,8 @@ struct RingFit {
 };
 
 std::optional<RingFit> fit_ring(std::span<const Vec3> pts, Vec3 origin, Vec3 axis) {
-  const std::optional<Vec3> c_plane = circle_center(pts, origin, axis);
+  const std::optional<Vec3> c_plane =
+      surrounds(pts, origin, axis) ? std::optional<Vec3>(origin) : circle_center(pts, origin, axis);
   if (!c_plane) return std::nullopt;
   double mean_rho = 0, mean_h = 0;
   Vec3 toward_arc{};
@@ -305,20 +345,109 @@ Frame frame_about(std::span<const Vec3> pts, Vec3 axis) {
   return f;
 }
 
-// The axis of a surface of revolution from its normals: a side's normals are all
-// perpendicular to it (the least direction of sum n n^T) as long as they spread over
-// an arc; normals nearly all alike are a flat face, a cap, whose normal is the axis.
+// The axis of a cylinder or cone from its normals. A side's normals all make the same
+// angle with the axis (90 degrees for a cylinder), so n . axis is constant: the axis is
+// the direction in which the normals do not vary (the least eigenvector of their
+// covariance), exact for any part of the round, where their plain second moment leans
+// towards the viewer for the visible side of a cone. Normals of other surfaces (a cap,
+// a shoulder) vary there: a second pass keeps the normals whose n . axis is near the
+// median. Normals nearly all alike are a flat face, a cap, whose normal is the axis.
 std::optional<Vec3> axis_from_normals(std::span<const Vec3> normals) {
-  double m[3][3] = {};
-  for (const Vec3& n : normals) {
-    const double v[3] = {n.x, n.y, n.z};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) m[i][j] += v[i] * v[j];
-  }
-  const Eigen3 e = symmetric_eigen(m);
-  if (!(e.values[0] > 0)) return std::nullopt;
-  const bool side = e.values[1] >= 0.05 * e.values[0];
-  return canonical_sign(side ? e.vectors[2] : e.vectors[0]);
+  auto least_varying = [](const std::vector<Vec3>& ns, int which) -> std::optional<Vec3> {
+    if (ns.size() < 3) return std::nullopt;
+    Vec3 mean{};
+    for (const Vec3& n : ns) mean = mean + n;
+    mean = mean * (1.0 / static_cast<double>(ns.size()));
+    double m[3][3] = {}, c[3][3] = {};
+    for (const Vec3& n : ns) {
+      const double v[3] = {n.x, n.y, n.z}, d[3] = {n.x - mean.x, n.y - mean.y, n.z - mean.z};
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          m[i][j] += v[i] * v[j];
+          c[i][j] += d[i] * d[j];
+        }
+    }
+    const Eigen3 second = symmetric_eigen(m);
+    if (!(second.values[0] > 0)) return std::nullopt;
+    // which < 0: decide between a flat face (its normal) and a side.
+    if (which < 0 && second.values[1] < 0.15 * second.values[0])
+      return canonical_sign(second.vectors[0]);
+    return canonical_sign(symmetric_eigen(c).vectors[2]);
+  };
+  std::vector<Vec3> all(normals.begin(), normals.end());
+  const std::optional<Vec3> first = least_varying(all, -1);
+  if (!first) return std::nullopt;
+  std::vector<double> along;
+  for (const Vec3& n : all) along.push_back(dot(n, *first));
+  std::vector<double> sorted = along;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
+                   sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  if (median > 0.95 || median < -0.95) return first;  // a flat face
+  std::vector<Vec3> side;
+  for (std::size_t i = 0; i < all.size(); ++i)
+    if (std::abs(along[i] - median) < 0.25) side.push_back(all[i]);
+  const std::optional<Vec3> refined = least_varying(side, 0);
+  return refined ? refined : first;
+}
+
+// A surface of revolution's normal lines all meet its axis (a bottle's curved neck as
+// much as a cylinder or a cone): the axis is the line (direction a through c) that
+// minimises sum ((p - c) . (n x a))^2, relative to sum |n x a|^2 so that directions along
+// many normals gain nothing. For each direction c is a 2x2 least-squares solve; the
+// direction is searched within 40 degrees of `start` (2-degree steps, then 0.2).
+std::optional<Vec3> revolution_axis(std::span<const Vec3> points, std::span<const Vec3> normals,
+                                    Vec3 start) {
+  const std::size_t stride = std::max<std::size_t>(1, points.size() / 3000);
+  Vec3 centroid{};
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < points.size(); i += stride, ++n) centroid = centroid + points[i];
+  if (n < 10) return std::nullopt;
+  centroid = centroid * (1.0 / static_cast<double>(n));
+  auto cost = [&](Vec3 a) {
+    const Vec3 e0 = normalized(std::abs(a.x) < 0.9 ? cross(a, Vec3{1, 0, 0}) : cross(a, Vec3{0, 1, 0}));
+    const Vec3 e1 = cross(a, e0);
+    double s00 = 0, s01 = 0, s11 = 0, b0 = 0, b1 = 0, bb = 0, mm = 0;
+    for (std::size_t i = 0; i < points.size(); i += stride) {
+      const Vec3 m = cross(normals[i], a);
+      const double r = dot(points[i] - centroid, m), g0 = dot(e0, m), g1 = dot(e1, m);
+      s00 += g0 * g0;
+      s01 += g0 * g1;
+      s11 += g1 * g1;
+      b0 += g0 * r;
+      b1 += g1 * r;
+      bb += r * r;
+      mm += dot(m, m);
+    }
+    const double det = s00 * s11 - s01 * s01;
+    if (!(mm > 0) || !(std::abs(det) > 1e-18)) return std::numeric_limits<double>::infinity();
+    const double u = (b0 * s11 - b1 * s01) / det, v = (s00 * b1 - s01 * b0) / det;
+    // The residual sum of squares at the best c, relative to the normals' leverage.
+    return (bb - u * b0 - v * b1) / mm;
+  };
+  auto search = [&](Vec3 centre, double radius_deg, double step_deg) {
+    const Vec3 a0 = normalized(centre);
+    const Vec3 e0 =
+        normalized(std::abs(a0.x) < 0.9 ? cross(a0, Vec3{1, 0, 0}) : cross(a0, Vec3{0, 1, 0}));
+    const Vec3 e1 = cross(a0, e0);
+    Vec3 best = a0;
+    double best_cost = cost(a0);
+    const double to_rad = 3.14159265358979323846 / 180;
+    for (double x = -radius_deg; x <= radius_deg + 1e-9; x += step_deg)
+      for (double y = -radius_deg; y <= radius_deg + 1e-9; y += step_deg) {
+        if (x * x + y * y > radius_deg * radius_deg) continue;
+        const Vec3 a = normalized(a0 + e0 * std::tan(x * to_rad) + e1 * std::tan(y * to_rad));
+        const double c = cost(a);
+        if (c < best_cost) {
+          best_cost = c;
+          best = a;
+        }
+      }
+    return best;
+  };
+  Vec3 a = search(start, 40, 2);
+  a = search(a, 2.2, 0.2);
+  return canonical_sign(a);
 }
 
 }  // namespace
@@ -333,7 +462,8 @@ Result<FitResult> fit_primitive(std::span<const Vec3> points, ShapeKind kind,
   std::optional<Vec3> fixed_axis = snapped ? options.axis : std::nullopt;
   const bool axial = kind == ShapeKind::cylinder || kind == ShapeKind::cone;
   if (!snapped && axial && options.normals.size() == points.size())
-    fixed_axis = axis_from_normals(options.normals);
+    if ((fixed_axis = axis_from_normals(options.normals)))
+      if (auto rev = revolution_axis(points, options.normals, *fixed_axis)) fixed_axis = rev;
   const Frame f = fixed_axis ? frame_about(points, *fixed_axis) : principal_frame(points);
   const Vec3 center = box_center(f);
   FitResult out;
@@ -345,7 +475,11 @@ Result<FitResult> fit_primitive(std::span<const Vec3> points, ShapeKind kind,
       double r = 0;
       for (int k = 0; k < 3; ++k) r = std::max(r, 0.5 * (f.hi[k] - f.lo[k]));
       // A cap (the visible side of a ball) has its centre behind it: fit the sphere.
-      if (auto c = sphere_center(points, center); c && norm(*c - center) < r) {
+      const bool whole = surrounds(points, center, f.eig.vectors[0]) &&
+                         surrounds(points, center, f.eig.vectors[1]) &&
+                         surrounds(points, center, f.eig.vectors[2]);
+      if (auto c = whole ? std::nullopt : sphere_center(points, center);
+          c && norm(*c - center) < r) {
         double mean = 0;
         for (const Vec3& p : points) mean += norm(p - *c);
         out.pose.position = *c;
@@ -396,8 +530,10 @@ Result<FitResult> fit_primitive(std::span<const Vec3> points, ShapeKind kind,
       Vec3 c = center;
       double rbox = 0;
       for (const Vec3& p : points) rbox = std::max(rbox, radial(p, center, axis));
-      if (auto cc = circle_center(points, center, axis); cc && norm(*cc - center) < rbox)
-        c = *cc;
+      if (!surrounds(points, center, axis))
+        if (auto cc = circle_center(points, center, axis, kind == ShapeKind::cone);
+            cc && norm(*cc - center) < rbox)
+          c = *cc;
       double rmax = 0;
       for (const Vec3& p : points) rmax = std::max(rmax, radial(p, c, axis));
       if (kind == ShapeKind::cone) {

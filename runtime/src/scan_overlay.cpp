@@ -138,48 +138,21 @@ void draw_primitive(Canvas& c, const Projector& proj, const ShapeFit& fit, Rgb c
   }
 }
 
-// Lays labels out so none is cut at the image's edges or hidden under another: each
-// goes above its object if it can, else below it, beside it, or stacked further away,
-// at the first place inside the image that overlaps no label already placed.
+// The overlay's labels: text `scale` times stb_easy_font's 7-pixel glyphs, each box
+// laid out by layout_labels.
 template <typename Get>
 void place_labels(Canvas& canvas, size_t count, Get get) {
-  const int w_img = canvas.img.width, h_img = canvas.img.height;
-  const int scale = w_img >= 480 ? 2 : 1;  // 14 px glyphs on VGA, 7 px on QVGA
-  const int h = 7 * scale + 4;
-  struct Box {
-    int x0, y0, x1, y1;
-    bool overlaps(const Box& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
-  };
-  std::vector<Box> placed;
+  const int scale = canvas.img.width >= 480 ? 2 : 1;  // 14 px glyphs on VGA, 7 px on QVGA
+  std::vector<LabelRequest> requests;
   for (size_t i = 0; i < count; ++i) {
     const auto& l = get(i);
     std::string copy = l.text;
-    const int w = stb_easy_font_width(copy.data()) * scale + 4;
-    const int cx = (l.left + l.right) / 2 - w / 2;
-    std::vector<std::pair<int, int>> spots = {{cx, l.top - h - 4},   {cx, l.bottom + 4},
-                                              {l.right + 4, l.top},  {l.left - w - 4, l.top},
-                                              {cx, (l.top + l.bottom) / 2 - h / 2}};
-    for (int k = 1; k < 2 * h_img / h; ++k) {  // then further up and down
-      spots.push_back({cx, l.top - h - 4 - k * h});
-      spots.push_back({cx, l.bottom + 4 + k * h});
-    }
-    Box best{};
-    int best_overlaps = -1;
-    for (auto [x, y] : spots) {
-      x = std::clamp(x, 0, std::max(0, w_img - w));
-      y = std::clamp(y, 0, std::max(0, h_img - h));
-      const Box b{x, y, x + w, y + h};
-      int overlaps = 0;
-      for (const Box& o : placed) overlaps += b.overlaps(o) ? 1 : 0;
-      if (best_overlaps < 0 || overlaps < best_overlaps) {
-        best = b;
-        best_overlaps = overlaps;
-      }
-      if (overlaps == 0) break;
-    }
-    placed.push_back(best);
-    canvas.text(best.x0 + 2, best.y0 + 2, l.text, l.colour, scale);
+    requests.push_back({stb_easy_font_width(copy.data()) * scale + 4, 7 * scale + 4, l.top,
+                        l.bottom, l.left, l.right});
   }
+  const std::vector<LabelBox> boxes = layout_labels(requests, canvas.img.width, canvas.img.height);
+  for (size_t i = 0; i < count; ++i)
+    canvas.text(boxes[i].x0 + 2, boxes[i].y0 + 2, get(i).text, get(i).colour, scale);
 }
 
 }  // namespace
@@ -244,7 +217,40 @@ RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
       text.append(j == 0 ? " " : (j == 1 ? ", part " : ", ")).append(shape_name(prims[j].primitive.kind));
     labels.push_back({std::move(text), col, top, bottom, left, right});
   }
-  place_labels(canvas, labels.size(), [&](size_t i) -> const Label& { return labels[i]; });  return img;
+  place_labels(canvas, labels.size(), [&](size_t i) -> const Label& { return labels[i]; });
+  return img;
+}
+
+std::vector<LabelBox> layout_labels(const std::vector<LabelRequest>& labels, int image_width,
+                                    int image_height) {
+  std::vector<LabelBox> placed;
+  for (const LabelRequest& l : labels) {
+    const int w = l.width, h = l.height;
+    const int cx = (l.left + l.right) / 2 - w / 2;
+    std::vector<std::pair<int, int>> spots = {{cx, l.top - h - 4},  {cx, l.bottom + 4},
+                                              {l.right + 4, l.top}, {l.left - w - 4, l.top},
+                                              {cx, (l.top + l.bottom) / 2 - h / 2}};
+    for (int k = 1; k < 2 * image_height / std::max(1, h); ++k) {  // then further up and down
+      spots.push_back({cx, l.top - h - 4 - k * h});
+      spots.push_back({cx, l.bottom + 4 + k * h});
+    }
+    LabelBox best{};
+    int best_overlaps = -1;
+    for (auto [x, y] : spots) {
+      x = std::clamp(x, 0, std::max(0, image_width - w));
+      y = std::clamp(y, 0, std::max(0, image_height - h));
+      const LabelBox b{x, y, x + w, y + h};
+      int overlaps = 0;
+      for (const LabelBox& o : placed) overlaps += b.overlaps(o) ? 1 : 0;
+      if (best_overlaps < 0 || overlaps < best_overlaps) {
+        best = b;
+        best_overlaps = overlaps;
+      }
+      if (overlaps == 0) break;
+    }
+    placed.push_back(best);
+  }
+  return placed;
 }
 
 std::string encode_png(const RgbImage& image) {

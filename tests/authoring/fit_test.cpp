@@ -133,6 +133,34 @@ TEST(FitPrimitive, TorusFromACShapedHandle) {
   EXPECT_GT(rotate(fit->pose.rotation, Vec3{1, 0, 0}).x, 0.99);
 }
 
+// The visible half of a curved neck (radius 3 to 5 cm along a wavy profile) about an
+// axis tilted 20 degrees: the points' spread and the normals' covariance both lean, the
+// normal lines all meet the axis. Fitted with its normals, the cone stands on that axis.
+TEST(FitPrimitive, CurvedNeckSeenFromOneSideFindsItsAxisFromItsNormals) {
+  const double tilt = 20 * kPi / 180;
+  const Vec3 axis{std::sin(tilt), std::cos(tilt), 0};
+  const Vec3 e0 = normalized(cross(axis, Vec3{0, 0, 1})), e1 = cross(axis, e0);
+  std::vector<Vec3> pts, normals;
+  for (int i = 0; i <= 40; ++i)
+    for (int j = 0; j <= 30; ++j) {
+      const double h = 0.1 * i / 40, t = kPi * j / 30;  // half the round
+      const double r = 0.05 - 0.02 * h / 0.1 + 0.004 * std::sin(60 * h), dr = -0.2 + 0.24 * std::cos(60 * h);
+      const Vec3 radial = e0 * std::cos(t) + e1 * std::sin(t);
+      pts.push_back(Vec3{0.01, 0.2, 0} + axis * h + radial * r);
+      normals.push_back(normalized(radial - axis * dr));
+    }
+  FitOptions options;
+  options.normals = normals;
+  auto fit = fit_primitive(pts, ShapeKind::cone, options);
+  ASSERT_TRUE(fit);
+  EXPECT_GT(dot(fit->pose.axis(), axis), std::cos(1.0 * kPi / 180));  // base below, apex up
+  EXPECT_NEAR(fit->dimensions[1], 0.1, 0.01);
+  // Without normals the half-shell's spread alone cannot tell.
+  auto blind = fit_primitive(pts, ShapeKind::cone);
+  ASSERT_TRUE(blind);
+  EXPECT_LT(std::abs(dot(blind->pose.axis(), axis)), std::cos(1.0 * kPi / 180));
+}
+
 TEST(FitPrimitive, TooFewPointsIsAnError) {
   const std::vector<Vec3> pts{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   auto fit = fit_primitive(pts, ShapeKind::sphere);

@@ -273,6 +273,34 @@ TEST_F(HeadlessPanels, HandleDragMovesThePrimitiveInOneUndoStep) {
 }
 
 
+// At 1280x720 every Inspector button can be reached: the add buttons wrap (torus and box
+// were past the panel's edge), the third handle option has its own line.
+TEST_F(HeadlessPanels, At1280x720EveryInspectorButtonIsReachable) {
+  ImGui::GetIO().DisplaySize = ImVec2(1280, 720);
+  ASSERT_TRUE(doc.apply(cmd::Select{{0, 0}}));
+  frame(ImVec2(-100, -100), false);
+  for (const char* label : {"sphere", "cylinder", "cone", "torus", "box", "move", "rotate", "size"})
+    EXPECT_TRUE(locate("Inspector", label).has_value()) << label;
+}
+
+// Frame selected points the camera at the selected object, not at all of them.
+TEST_F(HeadlessPanels, FrameSelectedCentresTheSelectedObject) {
+  ASSERT_TRUE(doc.apply(cmd::AddObject{"second"}));
+  ASSERT_TRUE(doc.apply(cmd::AddPrimitive{1, ShapeKind::sphere, std::nullopt, "ball"}));
+  frame(ImVec2(-100, -100), false);
+  frame_all(doc, ui);
+  const glm::vec3 all(ui.camera.target[0], ui.camera.target[1], ui.camera.target[2]);
+  ASSERT_TRUE(doc.apply(cmd::Select{{1, -1}}));
+  frame_selected(doc, ui);
+  const glm::vec3 one(ui.camera.target[0], ui.camera.target[1], ui.camera.target[2]);
+  const std::vector<Placement> placed = place_objects(doc, ui);
+  glm::vec3 where(0);
+  for (const Placement& p : placed)
+    if (p.object == 1) where = glm::vec3(p.model[3]);
+  EXPECT_GT(glm::length(one - all), 1e-3f);
+  EXPECT_LT(std::abs(one.x - where.x), 0.06f);
+}
+
 // A spec that does not parse: the modal shows its file:line:column error until OK.
 TEST_F(HeadlessPanels, ABrokenSpecShowsItsErrorInAModal) {
   ui.prompts.open_error = "bad.haptic:4:12: error: radius must be positive, found -0.1";
@@ -358,6 +386,56 @@ TEST_F(HeadlessPanels, TutorialBoxSelectionByHandFitsTheBody) {
   EXPECT_GT(std::abs(body.pose.axis().y), std::cos(1.0 * 3.14159265 / 180));  // within 1 degree
   EXPECT_NEAR(body.pose.position.x, 0, 0.002);
   EXPECT_NEAR(body.pose.position.z, 0, 0.002);
+
+  // Step 3, the neck: "Add primitive: cone", Ctrl+drag from the shoulder to above the
+  // top, "Fit to box selection": a cone standing up, its apex (+Z) at the top. The neck
+  // curves, yet its normal lines all meet the bottle's axis.
+  const auto add_cone = locate("Inspector", "cone");
+  ASSERT_TRUE(add_cone.has_value());
+  click(*add_cone);
+  ASSERT_EQ(doc.selection().primitive, 1);
+  ImVec2 top;
+  ASSERT_TRUE(project(mvp, vp, glm::vec3(0, 0.3f, 0), top));
+  const ImVec2 neck_from(left - 12, mark.y - 2), neck_to(right + 12, top.y - 12);
+  ImGui::GetIO().KeyCtrl = true;
+  frame(neck_from, false);
+  frame(neck_from, true);
+  for (int i = 1; i <= 4; ++i)
+    frame(ImVec2(neck_from.x + (neck_to.x - neck_from.x) * i / 4,
+                 neck_from.y + (neck_to.y - neck_from.y) * i / 4),
+          true);
+  frame(neck_to, false);
+  ImGui::GetIO().KeyCtrl = false;
+  const std::string neck_label =
+      "Fit to box selection (" + std::to_string(ui.box_points.size()) + " points)";
+  const auto fit_neck = locate("Inspector", neck_label.c_str());
+  ASSERT_TRUE(fit_neck.has_value()) << neck_label;
+  click(*fit_neck);
+  const Primitive& neck = doc.spec().objects.at(0).primitives.at(1);
+  std::printf("neck by hand: radius %.2f cm, height %.2f cm, axis y %.4f\n",
+              neck.dimensions[0].value_m * 100, neck.dimensions[1].value_m * 100,
+              neck.pose.axis().y);
+  EXPECT_EQ(neck.kind, ShapeKind::cone);
+  EXPECT_GT(neck.pose.axis().y, std::cos(1.0 * 3.14159265 / 180));  // up, apex at the top
+  EXPECT_NEAR(neck.dimensions[0].value_m, 0.045, 0.004);  // the shoulder's radius
+  // From the shoulder to the top (30 cm): the rectangle's lower edge meets the front at
+  // 19 cm and the sides, seen from above, lower.
+  EXPECT_NEAR(neck.dimensions[1].value_m, 0.115, 0.015);
+
+  // The same with the axis snapped to the object's up, chosen in the combo by hand.
+  const auto snap = locate("Inspector", "##snap");
+  ASSERT_TRUE(snap.has_value());
+  click(*snap);
+  const auto up = locate("##Combo", "axis: object up (+Y)", {1});  // Combo PushID()s each item
+  ASSERT_TRUE(up.has_value());
+  click(*up);
+  ASSERT_EQ(ui.fit_snap, AxisSnap::object_up);
+  const auto refit = locate("Inspector", neck_label.c_str());
+  ASSERT_TRUE(refit.has_value());
+  click(*refit);
+  const Primitive& snapped = doc.spec().objects.at(0).primitives.at(1);
+  EXPECT_NEAR(snapped.pose.axis().y, 1.0, 1e-9);
+  EXPECT_NEAR(snapped.dimensions[1].value_m, neck.dimensions[1].value_m, 0.005);
 }
 
 }  // namespace

@@ -6,15 +6,19 @@
 #include <random>
 #include <string>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 namespace annex::authoring::testing {
 
 inline std::filesystem::path fresh_dir(const std::string& name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  // The process id keeps apart two checkouts running the same test at once.
   std::filesystem::path dir =
       std::filesystem::temp_directory_path() / "annex-author-tests" /
-      (std::string(info->test_suite_name()) + "." + info->name() + "." + name);
+      (std::string(info->test_suite_name()) + "." + info->name() + "." + name + "." +
+       std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

@@ -23,9 +23,9 @@ struct FitOptions {
   // axes and every size then fitted around it; unset: chosen from the points.
   std::optional<Vec3> axis;
   // Outward normals of the points (same count), e.g. of a box selection's visible
-  // surface. A cylinder or cone then takes its axis from them: the direction the side's
-  // normals are all perpendicular to, which holds for half a bottle as for all of it,
-  // where the points' spread alone picks the depth of a half-shell.
+  // surface. A cylinder or cone then takes its axis from them: the line their normal
+  // lines all meet, which holds for half a bottle as for all of it and for a curved
+  // neck, where the points' spread alone picks the depth of a half-shell.
   std::span<const Vec3> normals;
 };
 

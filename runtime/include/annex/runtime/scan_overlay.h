@@ -25,6 +25,20 @@ struct RgbImage {
 RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
                            const CameraIntrinsics& intrinsics = {});
 
+// Where the overlay's labels go. Each asks for a box of its text's size next to its
+// object's pixel bounds; the boxes lie inside the image and, when there is room, over
+// no other label: above the object, else below it, beside it, or stacked further away.
+struct LabelRequest {
+  int width = 0, height = 0;             // the label's box, pixels
+  int top = 0, bottom = 0, left = 0, right = 0;  // the object's pixel bounds
+};
+struct LabelBox {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // [x0, x1) x [y0, y1)
+  bool overlaps(const LabelBox& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
+};
+std::vector<LabelBox> layout_labels(const std::vector<LabelRequest>& labels, int image_width,
+                                    int image_height);
+
 // PNG bytes of an image (stb_image_write), and an atomic file write of them.
 std::string encode_png(const RgbImage& image);
 Status write_png(const std::filesystem::path& path, const RgbImage& image);
