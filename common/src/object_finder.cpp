@@ -17,7 +17,8 @@ MatchResult match_objects(const HapticSpec& spec, const PhysicalScene& scene,
   }
   std::vector<int> candidates;
   for (size_t j = 0; j < scene.objects.size(); ++j)
-    if (!flag(taken, j)) candidates.push_back(static_cast<int>(j));
+    if (!flag(taken, j) && (params.partial_objects_vote || !scene.objects[j].partial))
+      candidates.push_back(static_cast<int>(j));
 
   WeightMatrix weights{static_cast<int>(result.voters.size()),
                        static_cast<int>(candidates.size()), {}};

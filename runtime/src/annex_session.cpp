@@ -15,6 +15,18 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The support a prop at `p` stands on: the nearest plane below it (a cup on a shelf
+// tracks on the shelf, not on the floor).
+std::optional<Plane> support_below(const std::vector<SupportSurface>& supports, Vec3 p) {
+  std::optional<Plane> best;
+  double best_h = 0;
+  for (const SupportSurface& s : supports) {
+    const double h = dot(s.plane.normal, p) + s.plane.d;
+    if (h > -0.02 && (!best || h < best_h)) best = s.plane, best_h = h;
+  }
+  return best;
+}
+
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
@@ -160,9 +172,11 @@ FrameReport AnnexSession::process(const Frame& frame) {
   TrackingInput input;
   input.frame = &frame;
   input.camera = camera_;
-  input.support = support_;
+  input.support = supports_.empty() ? std::nullopt : std::optional<Plane>(supports_.front().plane);
   std::vector<ObjectTrack> tracked(objects_.size());
   std::vector<TrackingInput> inputs(objects_.size(), input);
+  for (size_t i = 0; i < objects_.size(); ++i)
+    if (auto s = support_below(supports_, objects_[i].track.pose.position)) inputs[i].support = s;
   for (size_t i = 0; i < objects_.size(); ++i)
     for (const PhysicalObject& o : last_scan_objects_)
       for (const PhysicalPrimitive& p : o.primitives)
@@ -197,7 +211,7 @@ FrameReport AnnexSession::process(const Frame& frame) {
 
   if (report.scan) {
     ScanResult& scan = *report.scan;
-    support_ = scan.plane;
+    supports_ = scan.scene.supports;
     last_scan_objects_ = scan.scene.objects;
     // Which scanned objects are props already annexed (nearest first, one each).
     PhysicalScene scene = scan.scene;

@@ -18,6 +18,9 @@ namespace annex {
 struct MatchParams {
   VoteParams vote;
   double min_vote = 0.0;  // pairs voting at or below this are never matched
+  // Objects a scan saw only in part (cut by the image border, too few points) are no
+  // candidates unless this is set: a prop the user cannot grab whole is a poor prop.
+  bool partial_objects_vote = false;
 };
 
 struct MatchEntry {

@@ -94,7 +94,7 @@ class AnnexSession {
   SessionParams params_;
   std::vector<AnnexedObject> objects_;
   std::optional<CameraIntrinsics> camera_;
-  std::optional<Plane> support_;
+  std::vector<SupportSurface> supports_;  // of the last scan; each prop tracks on its own
   std::vector<PhysicalObject> last_scan_objects_;
   int frames_since_scan_ = 0;
   int next_prop_id_ = 1;
