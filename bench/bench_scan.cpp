@@ -5,7 +5,9 @@
 //   accuracy  shape class accuracy and size errors on a larger generated set;
 //   ransac    CGAL Efficient RANSAC (the paper's detector) vs ObjectShapeRecognizer on
 //             the same clusters: class accuracy, size error, time per cluster.
-// Usage: annex-bench-scan [--repeat N] [--scenes N] [--skip-pcl]
+//   world     the widened generator: class, size, support and cone direction per
+//             distance band, a confusion matrix per shape, false props and slivers.
+// Usage: annex-bench-scan [--repeat N] [--scenes N] [--world N] [--skip-pcl]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -201,6 +203,146 @@ void accuracy_and_ransac(int scenes, int cgal_scenes) {
   cgal.print("cgal-eff");
 }
 
+// The widened generator (world_scene_params): floor, legs, a second support, tall
+// furniture, cameras 0.5-3 m away and 0-60 degrees down, cones either way up, flat and
+// cut, objects across the border. Objects are matched by the labels of their pixels:
+// a scanned object stands for the truth object most of its pixels show.
+struct BandTally {
+  int objects = 0, found = 0, correct = 0, direction_right = 0, cones = 0, support_right = 0;
+  std::vector<double> errors;
+};
+
+std::string truth_class(const PhysicalPrimitive& p) {
+  std::string name(shape_name(p.kind));
+  if (p.kind != ShapeKind::cone) return name;
+  const bool down = p.axis.y > 0;  // camera y points down; the axis runs wide to narrow
+  name += down ? " apex-down" : " apex-up";
+  if (p.narrow_radius_m > 0) name += " frustum";
+  if (p.dimensions_m[1] < 2 * p.dimensions_m[0]) name += " flat";
+  return name;
+}
+
+void world_set(int scenes) {
+  const char* bands[] = {"< 1.5 m", "1.5-2.5 m", "> 2.5 m"};
+  BandTally tally[3];
+  std::map<std::string, std::map<std::string, int>> confusion;
+  int false_props = 0, false_legs = 0, false_furniture = 0, slivers = 0, partial_flagged = 0,
+      cut_objects = 0, fragments = 0, scans = 0, failures = 0;
+  std::vector<double> scan_ms;
+  for (int k = 1; k <= scenes; ++k) {
+    const Result<SyntheticScene> scene = generate_scene(world_scene_params(2000 + k));
+    if (!scene) {
+      std::printf("  seed %d: %s\n", 2000 + k, scene.error().format().c_str());
+      continue;
+    }
+    const SyntheticFrame f = render_scene(*scene);
+    const auto t0 = Clock::now();
+    const Result<ScanResult> scan = scan_frame(f.frame);
+    scan_ms.push_back(ms_since(t0));
+    ++scans;
+    if (!scan) ++failures;
+    // Majority label of each scanned object.
+    std::vector<int> owner;
+    if (scan)
+      for (const ScanCluster& c : scan->clusters) {
+        std::map<int, int> votes;
+        for (int i : c.pixels) ++votes[f.labels[static_cast<size_t>(i)]];
+        int best = kLabelNothing, n = -1;
+        for (const auto& [l, v] : votes)
+          if (v > n) best = l, n = v;
+        owner.push_back(best);
+      }
+    for (size_t k2 = 0; k2 < owner.size(); ++k2) {
+      const PhysicalObject& o = scan->scene.objects[k2];
+      if (owner[k2] < 0) {
+        if (o.partial) continue;
+        ++false_props;
+        false_legs += owner[k2] == kLabelLeg;
+        false_furniture += owner[k2] == kLabelFurniture;
+      } else if (f.truth.objects[static_cast<size_t>(owner[k2])].partial) {
+        partial_flagged += o.partial;
+        slivers += !o.partial;
+      }
+    }
+    for (size_t t = 0; t < f.truth.objects.size(); ++t) {
+      const PhysicalObject& truth = f.truth.objects[t];
+      if (truth.partial) {
+        ++cut_objects;
+        continue;
+      }
+      const PhysicalPrimitive& tp = truth.primitives[0];
+      double largest = *std::max_element(tp.dimensions_m.begin(), tp.dimensions_m.end());
+      if (tp.kind != ShapeKind::box) largest = std::max(largest, 2 * tp.dimensions_m[0]);
+      if (largest < 0.05) continue;
+      const double dist = norm(tp.center);
+      BandTally& b = tally[dist < 1.5 ? 0 : dist < 2.5 ? 1 : 2];
+      ++b.objects;
+      int pick = -1, pieces = 0;
+      size_t most = 0;
+      for (size_t k2 = 0; k2 < owner.size(); ++k2)
+        if (owner[k2] == static_cast<int>(t)) {
+          ++pieces;
+          if (scan->clusters[k2].pixels.size() > most) most = scan->clusters[k2].pixels.size(), pick = static_cast<int>(k2);
+        }
+      fragments += std::max(0, pieces - 1);
+      const std::string row = truth_class(tp);
+      if (pick < 0) {
+        ++confusion[row]["missed"];
+        continue;
+      }
+      ++b.found;
+      const PhysicalObject& o = scan->scene.objects[static_cast<size_t>(pick)];
+      // The support: the truth plane of the object's support against the scan's.
+      std::optional<Plane> got;
+      for (const SupportSurface& s : scan->scene.supports)
+        if (s.id == o.support_id) got = s.plane;
+      if (!got && scan->scene.support) got = scan->scene.support;
+      for (const SupportSurface& s : f.truth.supports)
+        if (s.id == truth.support_id && got && std::abs(s.plane.d - got->d) < 0.03 &&
+            dot(s.plane.normal, got->normal) > 0.995)
+          ++b.support_right;
+      const std::string col = o.primitives.empty() ? "unknown" : std::string(shape_name(o.primitives[0].kind));
+      ++confusion[row][col];
+      if (o.primitives.empty() || o.primitives[0].kind != tp.kind) continue;
+      ++b.correct;
+      const PhysicalPrimitive& gp = o.primitives[0];
+      if (tp.kind == ShapeKind::cone) {
+        ++b.cones;
+        b.direction_right += dot(gp.axis, tp.axis) > 0;
+      }
+      std::vector<double> a = tp.dimensions_m, g = gp.dimensions_m;
+      if (tp.kind == ShapeKind::box) {
+        std::sort(a.begin(), a.begin() + 2);
+        std::sort(g.begin(), g.begin() + 2);
+      }
+      for (size_t i = 0; i < a.size() && i < g.size(); ++i) b.errors.push_back(std::abs(a[i] - g[i]));
+    }
+  }
+  std::printf("world set: %d generated scenes (seeds 2001-%d, world_scene_params), %d scans "
+              "failed, scan median_ms=%.1f\n",
+              scans, 2000 + scenes, failures, median(scan_ms));
+  std::printf("  %-10s %7s %6s %8s %10s %10s %9s %9s\n", "band", "objects", "found", "class",
+              "median_mm", "p90_mm", "support", "cone_dir");
+  for (int i = 0; i < 3; ++i) {
+    const BandTally& b = tally[i];
+    std::printf("  %-10s %7d %6d %7.1f%% %10.2f %10.2f %8.1f%% %4d/%-4d\n", bands[i], b.objects,
+                b.found, b.objects ? 100.0 * b.correct / b.objects : 0.0, 1000 * median(b.errors),
+                1000 * percentile(b.errors, 0.9),
+                b.found ? 100.0 * b.support_right / b.found : 0.0, b.direction_right, b.cones);
+  }
+  std::printf("  false props (background, legs, furniture reported whole): %d (legs %d, "
+              "furniture %d); border slivers reported whole: %d; cut objects flagged partial: "
+              "%d (of %d cut objects); extra fragments: %d\n",
+              false_props, false_legs, false_furniture, slivers, partial_flagged, cut_objects,
+              fragments);
+  std::printf("  confusion (truth -> scanned, all distances):\n");
+  for (const auto& [row, cols] : confusion) {
+    std::printf("    %-30s", row.c_str());
+    for (const auto& [col, n] : cols) std::printf(" %s=%d", col.c_str(), n);
+    std::printf("\n");
+  }
+}
+
 void real_clusters(const Frame& frame) {
   const Result<ScanResult> scan = scan_frame(frame);
   if (!scan) return;
@@ -237,15 +379,16 @@ void real_clusters(const Frame& frame) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int repeat = 30, scenes = 100;
+  int repeat = 30, scenes = 100, world = 60;
   bool pcl = true;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--repeat" && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
     else if (a == "--scenes" && i + 1 < argc) scenes = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--world" && i + 1 < argc) world = std::max(0, std::atoi(argv[++i]));
     else if (a == "--skip-pcl") pcl = false;
     else {
-      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--scenes N] [--skip-pcl]\n");
+      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--scenes N] [--world N] [--skip-pcl]\n");
       return 2;
     }
   }
@@ -259,6 +402,7 @@ int main(int argc, char** argv) {
   if (real_frame) speed(*real_frame, "milk_cartoon_all_small_clorox.pcd", repeat, pcl);
   else std::printf("speed: ../shared/data/real absent, real frame skipped\n");
   speed(synthetic(7).frame, "generated scene seed 7", repeat, pcl);
+  if (world > 0) world_set(world);
   accuracy_and_ransac(scenes, std::min(scenes, 30));
   if (real_frame) real_clusters(*real_frame);
   return 0;

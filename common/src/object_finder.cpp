@@ -64,6 +64,7 @@ MatchResult match_objects(const HapticSpec& spec, const PhysicalScene& scene,
   result.excluded_by.assign(scene.objects.size(), -1);
   for (size_t j = 0; j < scene.objects.size(); ++j) {
     if (flag(taken, j)) continue;
+    if (!params.partial_objects_vote && scene.objects[j].partial) continue;
     if (auto rule = excluding_rule(spec, scene.objects[j], scene.support)) {
       result.excluded_by[j] = *rule;
       continue;

@@ -14,10 +14,13 @@ namespace {
 using namespace detail;
 
 constexpr std::string_view kHeader = "annex-scene";
-constexpr int kVersion = 1;
+// Version 2 adds support ids (several supports), an object's `on` and `partial`, and
+// a cone's narrow_radius; version-1 files still read. The writer uses version 1 when
+// the scene needs nothing of version 2, so older readers keep reading such files.
+constexpr int kVersion = 2;
 constexpr std::string_view kTopKeys[] = {"support", "object"};
-constexpr std::string_view kObjectKeys[] = {"points", "fit",   "sphere", "cylinder",
-                                            "cone",   "torus", "box",    "end"};
+constexpr std::string_view kObjectKeys[] = {"points", "fit", "sphere", "cylinder", "cone",
+                                            "torus",  "box", "end",    "on",       "partial"};
 constexpr std::string_view kPrimitiveKeys[] = {"center", "axis", "fit"};
 
 Result<Vec3> read_vec3(LineReader& r, std::string_view key) {
@@ -47,6 +50,7 @@ Result<Vec3> read_direction(LineReader& r, std::string_view origin, std::string_
 struct OpenObject {
   PhysicalObject object;
   int line = 0;
+  Token on;  // the `on` value, checked against the supports at the end
   std::map<std::string, int, std::less<>> keys;
 };
 
@@ -58,6 +62,7 @@ Result<PhysicalPrimitive> parse_primitive(LineReader& r, std::string_view origin
   const auto names = dimension_names(kind);
   p.dimensions_m.assign(names.size(), 0.0);
   std::vector<Token> value_tokens(names.size());
+  Token narrow_token;
   std::vector<std::string_view> keys(names.begin(), names.end());
   keys.insert(keys.end(), std::begin(kPrimitiveKeys), std::end(kPrimitiveKeys));
   std::map<std::string, int, std::less<>> seen;
@@ -66,8 +71,9 @@ Result<PhysicalPrimitive> parse_primitive(LineReader& r, std::string_view origin
   while (!r.at_end()) {
     const Token& key = r.take();
     const int dim = key.quoted ? -1 : dimension_index(kind, key.text);
+    const bool narrow = !key.quoted && kind == ShapeKind::cone && key.text == "narrow_radius";
     const bool known =
-        dim >= 0 ||
+        dim >= 0 || narrow ||
         (!key.quoted && (key.text == "center" || key.text == "axis" || key.text == "fit"));
     if (!known)
       return error_at(origin, key,
@@ -82,6 +88,11 @@ Result<PhysicalPrimitive> parse_primitive(LineReader& r, std::string_view origin
       if (!v) return v.error();
       p.dimensions_m[static_cast<std::size_t>(dim)] = *v;
       value_tokens[static_cast<std::size_t>(dim)] = r.last();
+    } else if (narrow) {
+      auto v = r.positive(key.text);
+      if (!v) return v.error();
+      p.narrow_radius_m = *v;
+      narrow_token = r.last();
     } else if (key.text == "center") {
       auto c = read_vec3(r, "center");
       if (!c) return c.error();
@@ -104,6 +115,9 @@ Result<PhysicalPrimitive> parse_primitive(LineReader& r, std::string_view origin
   if (kind == ShapeKind::torus)
     if (auto msg = check_torus(p.dimensions_m[0], p.dimensions_m[1]))
       return error_at(origin, value_tokens[1], *msg);
+  if (p.narrow_radius_m > 0 && p.narrow_radius_m >= p.dimensions_m[0])
+    return error_at(origin, narrow_token,
+                    "cone narrow_radius must be less than its radius (the wide end)");
   return p;
 }
 
@@ -123,6 +137,9 @@ Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin
   std::map<std::string, int, std::less<>> object_lines;
   std::optional<OpenObject> obj;
   int support_line = 0;
+  int version = 1;
+  std::map<std::string, int, std::less<>> support_lines;
+  std::vector<OpenObject> placed;  // objects with an `on`, checked at the end
   bool have_header = false;
   Line line;
 
@@ -134,7 +151,15 @@ Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin
     const Token& key = r.take();
 
     if (!have_header) {
-      if (auto st = read_header(r, key, kHeader, kVersion); !st) return st.error();
+      // Version 2 when the file says so, else the version-1 header (and its errors).
+      version = line.tokens.size() > 1 && line.tokens[1].text == "2" ? 2 : 1;
+      if (auto st = read_header(r, key, kHeader, version); !st) {
+        Error e = st.error();
+        const std::string one = "this reader knows version 1";
+        if (auto at = e.message.find(one); at != std::string::npos)
+          e.message.replace(at, one.size(), "this reader knows versions 1 and 2");
+        return e;
+      }
       have_header = true;
       continue;
     }
@@ -148,8 +173,30 @@ Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin
             "unknown key " + shown(key) + " " + block + suggestion(key.text, kObjectKeys));
       if (key.text == "end") {
         if (auto st = r.expect_end("end"); !st) return st.error();
+        if (!o.object.support_id.empty()) placed.push_back(o);
         scene.objects.push_back(std::move(o.object));
         obj.reset();
+        continue;
+      }
+      if (version < 2 && (key.text == "on" || key.text == "partial"))
+        return error_at(origin, key,
+                        "'" + key.text + "' in object '" + o.object.id +
+                            "' needs the header 'annex-scene 2'");
+      if (version >= 2 && (key.text == "on" || key.text == "partial")) {
+        if (auto it = o.keys.find(key.text); it != o.keys.end())
+          return error_at(origin, key,
+                          "duplicate key '" + key.text + "' in object '" + o.object.id +
+                              "' (first at line " + std::to_string(it->second) + ")");
+        o.keys.emplace(key.text, key.line);
+        if (key.text == "on") {
+          auto id = r.identifier("support id", "on");
+          if (!id) return id.error();
+          o.object.support_id = *id;
+          o.on = r.last();
+        } else {
+          o.object.partial = true;
+        }
+        if (auto st = r.expect_end(key.text); !st) return st.error();
         continue;
       }
       if (key.text == "object" || key.text == "support")
@@ -208,6 +255,37 @@ Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin
       obj = std::move(o);
       continue;
     }
+    if (!key.quoted && key.text == "support" && version >= 2) {
+      // `support ID nx ny nz d [points N]`, once per id; the first is the primary.
+      auto id = r.identifier("support id", "support");
+      if (!id) return id.error();
+      const Token id_tok = r.last();
+      if (auto it = support_lines.find(*id); it != support_lines.end())
+        return error_at(origin, id_tok,
+                        "duplicate support id '" + *id + "' (first at line " +
+                            std::to_string(it->second) + ")");
+      if (scene.supports.size() >= kMaxObjects)
+        return error_at(origin, key, "more than " + std::to_string(kMaxObjects) + " supports");
+      support_lines.emplace(*id, key.line);
+      auto n = read_direction(r, origin, "support");
+      if (!n) return n.error();
+      auto d = r.number("support");
+      if (!d) return d.error();
+      SupportSurface surface{*id, Plane{*n, *d}, 0};
+      if (!r.at_end()) {
+        const Token& k = r.take();
+        if (k.quoted || k.text != "points")
+          return error_at(origin, k, "unknown key " + shown(k) + " in support '" + *id +
+                                         "'; expected 'points' or the end of the line");
+        auto count = r.non_negative_int("points");
+        if (!count) return count.error();
+        surface.point_count = *count;
+      }
+      if (auto st = r.expect_end("support"); !st) return st.error();
+      if (scene.supports.empty()) scene.support = surface.plane;
+      scene.supports.push_back(std::move(surface));
+      continue;
+    }
     if (!key.quoted && key.text == "support") {
       if (support_line > 0)
         return error_at(origin, key,
@@ -234,6 +312,11 @@ Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin
     return Error{"missing 'end' for object '" + obj->object.id + "' (opened at line " +
                      std::to_string(obj->line) + ") at the end of the input",
                  eof};
+  for (const OpenObject& o : placed)
+    if (!support_lines.contains(o.object.support_id))
+      return error_at(origin, o.on,
+                      "object '" + o.object.id + "' is on support '" + o.object.support_id +
+                          "', which the file does not declare");
   return scene;
 }
 
@@ -253,6 +336,16 @@ Status validate_scene(const PhysicalScene& scene, std::string_view origin) {
   }
   if (scene.objects.size() > kMaxObjects)
     return fail(base, "more than " + std::to_string(kMaxObjects) + " objects in one file");
+  std::map<std::string_view, std::size_t> support_ids;
+  for (std::size_t k = 0; k < scene.supports.size(); ++k) {
+    const SupportSurface& sp = scene.supports[k];
+    const std::string where = base + ": support '" + sp.id + "'";
+    if (!is_identifier(sp.id)) return fail(where, invalid_name_message("support id", "'" + sp.id + "'"));
+    if (!support_ids.emplace(sp.id, k).second) return fail(where, "duplicate support id '" + sp.id + "'");
+    if (!direction_ok(sp.plane.normal)) return fail(where, "support must be a non-zero vector");
+    if (auto msg = check_finite(sp.plane.d, "support")) return fail(where, *msg);
+    if (sp.point_count < 0) return fail(where, "points must be 0 or more");
+  }
   std::map<std::string_view, std::size_t> ids;
   for (std::size_t oi = 0; oi < scene.objects.size(); ++oi) {
     const PhysicalObject& o = scene.objects[oi];
@@ -265,6 +358,9 @@ Status validate_scene(const PhysicalScene& scene, std::string_view origin) {
     if (o.point_count < 0)
       return fail(where, "points must be 0 or more, found " + std::to_string(o.point_count));
     if (auto msg = check_unit_interval(o.fit, "fit")) return fail(where, *msg);
+    if (!o.support_id.empty() && !support_ids.contains(o.support_id))
+      return fail(where, "object '" + o.id + "' is on support '" + o.support_id +
+                             "', which the scene does not hold");
     if (o.primitives.size() > kMaxPrimitivesPerObject)
       return fail(where, "object '" + o.id + "' has more than " +
                              std::to_string(kMaxPrimitivesPerObject) + " primitives");
@@ -286,20 +382,41 @@ Status validate_scene(const PhysicalScene& scene, std::string_view origin) {
         if (auto msg = check_finite(v, "center")) return fail(where, *msg);
       if (!direction_ok(p.axis)) return fail(where, "axis must be a non-zero vector");
       if (auto msg = check_unit_interval(p.fit, "fit")) return fail(where, *msg);
+      if (!(p.narrow_radius_m >= 0) || (p.narrow_radius_m > 0 && (p.kind != ShapeKind::cone ||
+                                                                   p.narrow_radius_m >= p.dimensions_m[0])))
+        return fail(where, "narrow_radius must be 0, or for a cone less than its radius");
     }
   }
   return Ok{};
 }
 
 std::string write_scene(const PhysicalScene& scene) {
-  std::string out = std::string(kHeader) + " " + std::to_string(kVersion) + "\n";
-  if (scene.support) {
+  bool v2 = !scene.supports.empty();
+  for (const PhysicalObject& o : scene.objects) {
+    v2 = v2 || !o.support_id.empty() || o.partial;
+    for (const PhysicalPrimitive& p : o.primitives) v2 = v2 || p.narrow_radius_m > 0;
+  }
+  std::string out = std::string(kHeader) + " " + std::to_string(v2 ? kVersion : 1) + "\n";
+  if (v2) {
+    for (const SupportSurface& sp : scene.supports) {
+      out += "support " + sp.id + " ";
+      write_vec3(out, sp.plane.normal);
+      out += " " + format_number(sp.plane.d) + " points " + std::to_string(sp.point_count) + "\n";
+    }
+    if (scene.supports.empty() && scene.support) {
+      out += "support s1 ";
+      write_vec3(out, scene.support->normal);
+      out += " " + format_number(scene.support->d) + "\n";
+    }
+  } else if (scene.support) {
     out += "support ";
     write_vec3(out, scene.support->normal);
     out += " " + format_number(scene.support->d) + "\n";
   }
   for (const PhysicalObject& o : scene.objects) {
     out += "\nobject " + o.id + "\n";
+    if (!o.support_id.empty()) out += "  on " + o.support_id + "\n";
+    if (o.partial) out += "  partial\n";
     out += "  points " + std::to_string(o.point_count) + "\n";
     out += "  fit " + format_number(o.fit) + "\n";
     for (const PhysicalPrimitive& p : o.primitives) {
@@ -311,6 +428,7 @@ std::string write_scene(const PhysicalScene& scene) {
         out += ' ';
         out += format_number(p.dimensions_m[i]);
       }
+      if (p.narrow_radius_m > 0) out += " narrow_radius " + format_number(p.narrow_radius_m);
       out += " center ";
       write_vec3(out, p.center);
       out += " axis ";

@@ -31,6 +31,8 @@ std::string primitive_fields(const PhysicalPrimitive& p) {
   const auto names = dimension_names(p.kind);
   for (size_t k = 0; k < names.size() && k < p.dimensions_m.size(); ++k)
     out.append(" ").append(names[k]).append("=").append(num(p.dimensions_m[k]));
+  if (p.kind == ShapeKind::cone && p.narrow_radius_m > 0)
+    out.append(" narrow_radius=").append(num(p.narrow_radius_m));
   out.append(" center=").append(vec(p.center)).append(" axis=").append(vec(p.axis));
   return out;
 }
@@ -45,7 +47,7 @@ double median(std::vector<double> v) {
 int run_scan(const std::vector<std::string>& args) {
   const auto parsed =
       parse_args("scan", args, {{"explain"}, {"scene", "png", "config", "repeat", "color",
-                                              "intrinsics", "depth-scale"}});
+                                              "intrinsics", "depth-scale", "supports"}});
   if (!parsed) return kExitBadInput;
   if (parsed->positional.size() != 1) {
     std::cerr << "annex-runtime scan: error: expected one CLOUD.pcd or DEPTH.png (see --help)\n";
@@ -66,6 +68,14 @@ int run_scan(const std::vector<std::string>& args) {
     }
     params = *cfg;
   }
+  if (auto v = parsed->get("supports")) {
+    Result<ScanParams> chosen = with_support_selection(params, *v);
+    if (!chosen) {
+      std::cerr << "annex-runtime scan: error: --" << chosen.error().message << "\n";
+      return kExitBadInput;
+    }
+    params = *chosen;
+  }
   FrameSourceParams depth_params;
   if (!read_depth_options("scan", *parsed, depth_params)) return kExitBadInput;
   const Result<Frame> frame = read_frame_file(parsed->positional[0], *parsed, depth_params);
@@ -84,13 +94,18 @@ int run_scan(const std::vector<std::string>& args) {
   const Plane& pl = r.plane;
   std::cout << "plane normal=" << vec(pl.normal) << " d=" << num(pl.d)
             << " points=" << r.plane_inliers << "\n";
+  for (const SupportSurface& s : r.scene.supports)
+    std::cout << "support " << s.id << " normal=" << vec(s.plane.normal) << " d=" << num(s.plane.d)
+              << " points=" << s.point_count << "\n";
   for (size_t i = 0; i < r.scene.objects.size(); ++i) {
     const PhysicalObject& o = r.scene.objects[i];
+    const std::string tail = " support=" + o.support_id + (o.partial ? " partial=1" : "");
     if (o.primitives.empty()) {
-      std::cout << "object " << o.id << " unknown points=" << o.point_count << " fit=0\n";
+      std::cout << "object " << o.id << " unknown points=" << o.point_count << " fit=0" << tail
+                << "\n";
     } else {
       std::cout << "object " << o.id << " " << primitive_fields(o.primitives[0])
-                << " points=" << o.point_count << " fit=" << num(o.fit, 2) << "\n";
+                << " points=" << o.point_count << " fit=" << num(o.fit, 2) << tail << "\n";
       for (size_t k = 1; k < o.primitives.size(); ++k)
         std::cout << "part " << o.id << " " << primitive_fields(o.primitives[k])
                   << " fit=" << num(o.primitives[k].fit, 2) << "\n";
@@ -102,10 +117,10 @@ int run_scan(const std::vector<std::string>& args) {
                   << "\n";
   }
   if (r.scene.objects.empty())
-    std::cerr << "annex-runtime scan: note: no objects stand inside the support's hull ("
-              << r.plane_inliers
-              << " support points). A support seen only in part, like a floor in a room seen "
-                 "level, needs a hull margin: --config samples/config/room.conf\n";
+    std::cerr << "annex-runtime scan: note: no objects stand on the " << r.scene.supports.size()
+              << " support(s) found (" << r.plane_inliers
+              << " points on the first). A support seen only in part may need a hull margin: "
+                 "--config samples/config/room.conf\n";
   if (repeat > 0) {
     std::map<std::string, std::vector<double>> stage_ms;
     std::vector<std::string> order;
@@ -150,16 +165,20 @@ extern const Command kScanCommand = {
     "scan", "find the table plane and the objects on it in one depth frame",
     "usage: annex-runtime scan (CLOUD.pcd | DEPTH.png [--color RGB.png]\n"
     "                          [--intrinsics fx,fy,cx,cy] [--depth-scale S])\n"
-    "                          [--scene OUT.scene] [--png OUT.png]\n"
-    "                          [--config FILE] [--explain] [--repeat N]\n"
+    "                          [--scene OUT.scene] [--png OUT.png] [--config FILE]\n"
+    "                          [--supports WHICH] [--explain] [--repeat N]\n"
     "\n"
-    "Finds the dominant near-horizontal plane, the objects resting on it and each\n"
-    "object's primitives (sphere, cylinder, cone, torus, box). Prints\n"
-    "  plane normal=x,y,z d=D points=N\n"
+    "Finds every near-horizontal support (floor, table, shelf, seat), the objects\n"
+    "standing on each and each object's primitives (sphere, cylinder, cone or frustum,\n"
+    "torus, box). Prints\n"
+    "  plane normal=x,y,z d=D points=N                 (the first support)\n"
+    "  support <id> normal=x,y,z d=D points=N           (one per support)\n"
     "  object <id> <shape> <dim>=<metres>... center=x,y,z axis=x,y,z points=N fit=F\n"
+    "         support=<id> [partial=1]\n"
     "  part <id> <shape> <dim>=<metres>... center=x,y,z axis=x,y,z fit=F   (secondary)\n"
     "with ids p1, p2, ... left to right in the image; an object with no fitting shape\n"
-    "prints 'object <id> unknown points=N fit=0'.\n"
+    "prints 'object <id> unknown points=N fit=0 support=<id>'. partial=1: cut by the\n"
+    "image border or seen by too few points; such objects do not vote by default.\n"
     "\n"
     "A depth frame is a PCD cloud or a 16-bit depth PNG, back-projected through the\n"
     "intrinsics (default the Kinect's 525,525,319.5,239.5) with value / S = metres:\n"
@@ -169,6 +188,8 @@ extern const Command kScanCommand = {
     "  --scene OUT.scene  write the objects as a scene file (docs/scene-format.md)\n"
     "  --png OUT.png      write the camera view with objects coloured and outlined\n"
     "  --config FILE      scan parameters (samples/config/scan.conf, docs/perception.md)\n"
+    "  --supports WHICH   whose objects: all (within support_reach_m, the default),\n"
+    "                     nearest, highest, largest, or a support id such as s2\n"
     "  --explain          after each object, every shape tried: 'candidate <id> <shape>\n"
     "                     <dim>=<metres>... coverage=C rms_mm=R' (the highest score wins;\n"
     "                     docs/perception.md)\n"

@@ -21,6 +21,18 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The support a prop at `p` stands on: the nearest plane below it (a cup on a shelf
+// tracks on the shelf, not on the floor).
+std::optional<Plane> support_below(const std::vector<SupportSurface>& supports, Vec3 p) {
+  std::optional<Plane> best;
+  double best_h = 0;
+  for (const SupportSurface& s : supports) {
+    const double h = dot(s.plane.normal, p) + s.plane.d;
+    if (h > -0.02 && (!best || h < best_h)) best = s.plane, best_h = h;
+  }
+  return best;
+}
+
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
@@ -218,7 +230,7 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
     report.camera_motion_ok = m.ok;
     report.camera_motion = m.motion;
     camera_motion_ = m.motion;
-    if (support_) support_ = transform_plane(*support_, m.motion);
+    for (SupportSurface& sp : supports_) sp.plane = transform_plane(sp.plane, m.motion);
     for (PhysicalObject& o : last_scan_objects_)
       for (PhysicalPrimitive& p : o.primitives) {
         p.center = transform_point(m.motion, p.center);
@@ -240,10 +252,12 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
   TrackingInput input;
   input.frame = &frame;
   input.camera = camera_;
-  input.support = support_;
+  input.support = supports_.empty() ? std::nullopt : std::optional<Plane>(supports_.front().plane);
   input.camera_motion = report.camera_motion;
   std::vector<ObjectTrack> tracked(tracks.size());
   std::vector<TrackingInput> inputs(tracks.size(), input);
+  for (size_t i = 0; i < tracks.size(); ++i)
+    if (auto s = support_below(supports_, tracks[i]->pose.position)) inputs[i].support = s;
   for (size_t i = 0; i < tracks.size(); ++i)
     for (const PhysicalObject& o : last_scan_objects_)
       for (const PhysicalPrimitive& p : o.primitives)
@@ -309,7 +323,7 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
 
   if (report.scan) {
     ScanResult& scan = *report.scan;
-    support_ = scan.plane;
+    supports_ = scan.scene.supports;
     last_scan_objects_ = scan.scene.objects;
     // Which scanned objects are props already annexed or excluded (nearest first, one
     // each; excluded props after the annexed ones in `tracks`).

@@ -166,19 +166,17 @@ void evaluate(Candidate& c, const Samples& s) {
   c.rms = explained > 0 ? std::sqrt(sq / explained) : 0;
 }
 
-// A frustum (both radii non-zero) has no primitive of its own: it is reported as the
-// full cone through its wide end or as the cylinder of its mean radius, whichever
-// explains its points better. A jug or a cup reads as a cylinder, a funnel as a cone.
-void settle_frustum(Candidate& c, const Samples& s) {
+// A frustum (both radii non-zero: a cup, a bowl, a lampshade) is reported as itself, a
+// cone with its narrow end's radius, when it explains its points better than the
+// cylinder of its mean radius by `margin`; otherwise as that cylinder (a jug whose
+// sides barely taper reads as a cylinder).
+void settle_frustum(Candidate& c, const Samples& s, double margin) {
   if (c.model != Model::cone || std::min(c.r0, c.r1) <= 0) return;
-  // The cone as reported: the wide radius at one end, the apex at the other.
-  Candidate cone = c, cyl = c;
-  (c.r0 > c.r1 ? cone.r1 : cone.r0) = 0;
+  Candidate cyl = c;
   cyl.model = Model::cylinder;
   cyl.r0 = cyl.r1 = (c.r0 + c.r1) / 2;
-  evaluate(cone, s);
   evaluate(cyl, s);
-  c.as_cylinder = cyl.score > cone.score;
+  c.as_cylinder = cyl.score > c.score - margin;
 }
 
 double quantile(std::vector<double> v, double q) {
@@ -763,6 +761,7 @@ ShapeFit to_fit(const Candidate& c, const PlaneFrame& f) {
       p.kind = ShapeKind::cone;
       const bool narrowing = c.r1 <= c.r0;
       p.dimensions_m = {wide, c.h1 - c.h0};
+      p.narrow_radius_m = narrow;  // 0 for a pointed cone
       p.center = f.to_world(c.ca, c.cb, (c.h0 + c.h1) / 2);
       p.axis = narrowing ? up : up * -1.0;
       break;
@@ -875,7 +874,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
       c.valid = false;
     if (!c.valid) continue;
     evaluate(c, s);
-    settle_frustum(c, s);
+    settle_frustum(c, s, 2 * params.complexity_margin);
     out.candidates.push_back(to_fit(c, frame));
     // Cones and tori have more freedom than the shapes they generalise: they must
     // explain clearly more to win.
@@ -943,7 +942,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     }
     if (cone.valid) {
       evaluate(cone, sub);
-      settle_frustum(cone, sub);
+      settle_frustum(cone, sub, params.complexity_margin);
       if (!pick || cone.score - params.complexity_margin > pick->score) pick = &cone;
     }
     if (!pick || pick->coverage < 0.6) return std::nullopt;

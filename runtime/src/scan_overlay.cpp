@@ -108,7 +108,7 @@ void draw_primitive(Canvas& c, const Projector& proj, const ShapeFit& fit, Rgb c
     case ShapeKind::cone: {
       const double h = d[1];
       const Vec3 base = p.center - a * (h / 2), top = p.center + a * (h / 2);
-      const double r_top = p.kind == ShapeKind::cone ? 0.0 : d[0];
+      const double r_top = p.kind == ShapeKind::cone ? p.narrow_radius_m : d[0];
       polyline(c, proj, circle(base, u, v, d[0]), col, true);
       if (r_top > 0) polyline(c, proj, circle(top, u, v, r_top), col, true);
       for (int k = 0; k < 8; ++k) {
@@ -183,6 +183,19 @@ RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
     if (const Result<CameraIntrinsics> k = estimate_intrinsics(frame))
       proj = {k->fx, k->fy, k->cx, k->cy};
   Canvas canvas{img};
+  // Each support's hull, its id at its first vertex (selected ones bright).
+  for (const ScanSupport& sp : scan.supports) {
+    const Rgb col = sp.selected ? Rgb{120, 220, 255} : Rgb{90, 110, 130};
+    polyline(canvas, proj, sp.hull, col, true);
+    for (const Vec3& q : sp.hull)
+      if (q.z > 0.1) {
+        const double u = proj.fx * q.x / q.z + proj.cx, v = proj.fy * q.y / q.z + proj.cy;
+        if (u >= 0 && v >= 0 && u < img.width - 40 && v < img.height - 12) {
+          canvas.text(static_cast<int>(u) + 3, static_cast<int>(v) + 3, sp.surface.id, col);
+          break;
+        }
+      }
+  }
   for (size_t k = 0; k < scan.clusters.size(); ++k) {
     const Rgb col = kPalette[k % std::size(kPalette)];
     for (int i : scan.clusters[k].pixels) {
@@ -201,8 +214,11 @@ RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
   for (size_t k = 0; k < scan.clusters.size(); ++k) {
     const Rgb col = kPalette[k % std::size(kPalette)];
     const auto& prims = scan.clusters[k].shape.primitives;
+    const bool partial = k < scan.scene.objects.size() && scan.scene.objects[k].partial;
+    // Partial objects (cut by the border, too few points) in grey: they do not vote.
     for (size_t j = 0; j < prims.size(); ++j)
-      draw_primitive(canvas, proj, prims[j], j == 0 ? Rgb{255, 255, 255} : Rgb{255, 255, 0});
+      draw_primitive(canvas, proj, prims[j],
+                     partial ? Rgb{140, 140, 140} : j == 0 ? Rgb{255, 255, 255} : Rgb{255, 255, 0});
     int top = img.height, left = img.width, right = 0, bottom = 0;
     for (int i : scan.clusters[k].pixels) {
       top = std::min(top, i / img.width);
@@ -215,6 +231,7 @@ RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
     if (prims.empty()) text.append(" unknown");
     for (size_t j = 0; j < prims.size(); ++j)
       text.append(j == 0 ? " " : (j == 1 ? ", part " : ", ")).append(shape_name(prims[j].primitive.kind));
+    if (partial) text.append(" partial");
     labels.push_back({std::move(text), col, top, bottom, left, right});
   }
   place_labels(canvas, labels.size(), [&](size_t i) -> const Label& { return labels[i]; });

@@ -70,6 +70,12 @@ double plane_band(const ScanParams& params, double z) {
   return std::max(params.plane_distance_m, params.plane_noise_factor * kinect_sigma_z(z));
 }
 
+// Cluster tolerance at depth z: the configured one, or wider where depth noise makes
+// neighbours on one surface lie farther apart (a wardrobe 3.5 m away is not sliced).
+double cluster_tolerance(const ScanParams& params, double z) {
+  return std::max(params.cluster_tolerance_m, params.cluster_noise_factor * kinect_sigma_z(z));
+}
+
 struct PlaneFit {
   Vec3 n;
   double d = 0;
@@ -98,15 +104,11 @@ struct PlaneSearch {
   int inliers = 0;  // strided
 };
 
-PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up,
-                       std::vector<int>& strided, std::mt19937_64& rng) {
-  const int s = std::max(1, params.pixel_stride);
-  strided.clear();
-  for (int y = 0; y < f.height; y += s)
-    for (int x = 0; x < f.width; x += s) {
-      const int i = y * f.width + x;
-      if (valid(f.points[i]) && f.points[i].z <= params.max_depth_m) strided.push_back(i);
-    }
+// Seeded RANSAC over the strided pixels still in the pool (`free` marks them), then
+// least squares on the winner's inliers.
+PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double max_angle_deg,
+                       const std::vector<int>& strided, const std::vector<char>& free,
+                       bool use_free, std::mt19937_64& rng) {
   PlaneSearch best;
   if (strided.size() < 50) return best;
   // Inliers are counted on a fixed subsample per hypothesis; the winner is refined
@@ -117,7 +119,7 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up,
   std::uniform_int_distribution<size_t> pick(0, strided.size() - 1);
   std::vector<Vec3> probe;
   for (int k = 0; k < 2000; ++k) probe.push_back(to_vec(f.points[strided[pick(rng)]]));
-  const double cos_max = std::cos(params.max_plane_angle_deg * 3.14159265358979 / 180.0);
+  const double cos_max = std::cos(max_angle_deg * 3.14159265358979 / 180.0);
   PlaneFit hyp_best;
   int hyp_count = -1;
   // The second and third points come from the first one's image neighbourhood: a
@@ -135,6 +137,12 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up,
     };
     const int i1 = near(), i2 = near();
     if (!valid(f.points[i1]) || !valid(f.points[i2])) continue;
+    // Later searches skip pixels whose grid pixel an earlier plane took.
+    if (use_free) {
+      const int s = std::max(1, params.pixel_stride);
+      auto snap = [&](int i) { return (i / f.width / s * s) * f.width + i % f.width / s * s; };
+      if (!free[snap(i1)] || !free[snap(i2)]) continue;
+    }
     const Vec3 a = to_vec(f.points[i0]);
     const Vec3 b = to_vec(f.points[i1]);
     const Vec3 c = to_vec(f.points[i2]);
@@ -232,24 +240,34 @@ Hull2 convex_hull(const std::vector<Vec3>& in, Vec3 n) {
   return h;
 }
 
-// Largest 4-connected region of plane inliers on the strided grid: coplanar clutter
-// elsewhere in the room does not stretch the hull.
-std::vector<Vec3> largest_plane_region(const Frame& f, const std::vector<int>& strided,
-                                       const PlaneFit& plane, const ScanParams& params,
-                                       int stride) {
+// 4-connected regions of plane inliers (still free) on the strided grid. Regions of
+// at least `min_region` grid pixels and a tenth of the largest make up the support:
+// coplanar specks elsewhere (an object's top at the same height) do not stretch it.
+struct PlaneRegions {
+  std::vector<Vec3> hull_points;  // each kept region's outermost pixels per grid row
+  std::vector<int> members;       // strided pixels of the kept regions
+  bool touches_bottom = false;    // a kept region reaches the image's bottom rows
+};
+
+std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& strided,
+                                        const std::vector<char>& free, const PlaneFit& plane,
+                                        const ScanParams& params, int stride, int min_region,
+                                        bool split) {
   const int gw = (f.width + stride - 1) / stride, gh = (f.height + stride - 1) / stride;
   std::vector<int> label(static_cast<size_t>(gw) * gh, -2);  // -2 not inlier, -1 unvisited
   for (int i : strided) {
+    if (!free[i]) continue;
     const Vec3 p = to_vec(f.points[i]);
     if (std::abs(dot(plane.n, p) + plane.d) < plane_band(params, p.z)) {
       const int x = (i % f.width) / stride, y = (i / f.width) / stride;
       label[static_cast<size_t>(y) * gw + x] = -1;
     }
   }
-  int best_label = -1, best_size = 0, next = 0;
+  std::vector<int> sizes;
   std::vector<int> queue;
   for (size_t start = 0; start < label.size(); ++start) {
     if (label[start] != -1) continue;
+    const int next = static_cast<int>(sizes.size());
     queue.assign(1, static_cast<int>(start));
     label[start] = next;
     for (size_t q = 0; q < queue.size(); ++q) {
@@ -262,38 +280,64 @@ std::vector<Vec3> largest_plane_region(const Frame& f, const std::vector<int>& s
           queue.push_back(m);
         }
     }
-    if (static_cast<int>(queue.size()) > best_size) {
-      best_size = static_cast<int>(queue.size());
-      best_label = next;
-    }
-    ++next;
+    sizes.push_back(static_cast<int>(queue.size()));
   }
-  // Only each grid row's outermost region pixels can be hull vertices: an image row
-  // seen on a plane is a line, and its inner pixels lie between the outer two.
-  std::vector<Vec3> out;
+  const int largest = sizes.empty() ? 0 : *std::max_element(sizes.begin(), sizes.end());
+  std::vector<char> keep(sizes.size(), 0);
+  for (size_t k = 0; k < sizes.size(); ++k)
+    keep[k] = sizes[k] >= min_region && sizes[k] * 10 >= largest;
+  // Only each grid row's outermost pixels of a region can be hull vertices: an image
+  // row seen on a plane is a line, and its inner pixels lie between the outer two.
+  // `split`: one support per kept region, else one for all of them.
+  std::vector<int> slot(sizes.size(), -1);
+  std::vector<PlaneRegions> out;
+  for (size_t k = 0; k < sizes.size(); ++k)
+    if (keep[k]) {
+      if (split || out.empty()) out.emplace_back();
+      slot[k] = static_cast<int>(out.size()) - 1;
+    }
+  std::vector<int> first(out.size()), last(out.size());
   for (int y = 0; y < gh; ++y) {
-    int first = -1, last = -1;
-    for (int x = 0; x < gw; ++x)
-      if (label[static_cast<size_t>(y) * gw + x] == best_label) {
-        if (first < 0) first = x;
-        last = x;
-      }
-    if (first < 0) continue;
-    for (int x : {first, last})
-      out.push_back(to_vec(f.points[static_cast<size_t>(y) * stride * f.width + x * stride]));
+    std::fill(first.begin(), first.end(), -1);
+    for (int x = 0; x < gw; ++x) {
+      const int l = label[static_cast<size_t>(y) * gw + x];
+      if (l < 0 || slot[l] < 0) continue;
+      const int o = slot[l];
+      out[o].members.push_back(y * stride * f.width + x * stride);
+      if (first[o] < 0) first[o] = x;
+      last[o] = x;
+      if (y >= gh - 2) out[o].touches_bottom = true;
+    }
+    for (size_t o = 0; o < out.size(); ++o) {
+      if (first[o] < 0) continue;
+      for (int x : {first[o], last[o]})
+        out[o].hull_points.push_back(
+            to_vec(f.points[static_cast<size_t>(y) * stride * f.width + x * stride]));
+    }
   }
   return out;
+}
+
+double hull_area(const Hull2& h) {
+  double a = 0;
+  for (size_t k = 0; k < h.pts.size(); ++k) {
+    const auto& p = h.pts[k];
+    const auto& q = h.pts[(k + 1) % h.pts.size()];
+    a += p[0] * q[1] - q[0] * p[1];
+  }
+  return std::abs(a) * 0.5;
 }
 
 // Region growing over prism pixels on the strided grid: neighbours within
 // +-window grid steps join when closer than the tolerance in 3D (a Euclidean
 // clustering that uses the image grid as its neighbour search).
+// `mask` holds 1 + the index of the support a candidate pixel stands on: pixels join
+// only over the same support.
 std::vector<std::vector<int>> grow_clusters(const Frame& f, const std::vector<char>& mask,
                                             const std::vector<int>& seeds, int step,
                                             const ScanParams& params) {
   std::vector<int> label(mask.size(), -1);
   std::vector<std::vector<int>> clusters;
-  const double tol2 = params.cluster_tolerance_m * params.cluster_tolerance_m;
   const int w = std::max(1, params.cluster_window_px / step);
   std::vector<int> queue;
   for (int start : seeds) {
@@ -304,6 +348,7 @@ std::vector<std::vector<int>> grow_clusters(const Frame& f, const std::vector<ch
     for (size_t q = 0; q < queue.size(); ++q) {
       const int i = queue[q], x = i % f.width, y = i / f.width;
       const PointXYZRGB& p = f.points[i];
+      const double tol = cluster_tolerance(params, p.z), tol2 = tol * tol;
       for (int dy = -w; dy <= w; ++dy) {
         const int yy = y + dy * step;
         if (yy < 0 || yy >= f.height) continue;
@@ -311,7 +356,7 @@ std::vector<std::vector<int>> grow_clusters(const Frame& f, const std::vector<ch
           const int xx = x + dx * step;
           if (xx < 0 || xx >= f.width) continue;
           const int j = yy * f.width + xx;
-          if (!mask[j] || label[j] >= 0) continue;
+          if (mask[j] != mask[i] || label[j] >= 0) continue;
           const PointXYZRGB& o = f.points[j];
           const double ddx = p.x - o.x, ddy = p.y - o.y, ddz = p.z - o.z;
           if (ddx * ddx + ddy * ddy + ddz * ddz > tol2) continue;
@@ -330,11 +375,11 @@ std::vector<std::vector<int>> grow_clusters(const Frame& f, const std::vector<ch
 // cupboards and people do; an object on the support ends below the band's top.
 bool continues_above(const Frame& f, const std::vector<int>& grid_pixels, int step,
                      const PlaneFit& plane, const ScanParams& params) {
-  const double tol2 = params.cluster_tolerance_m * params.cluster_tolerance_m;
   size_t joins = 0;
   for (int i : grid_pixels) {
     const int x = i % f.width, y = i / f.width;
     const PointXYZRGB& p = f.points[i];
+    const double tol = cluster_tolerance(params, p.z), tol2 = tol * tol;
     const int nb[4][2] = {{x - step, y}, {x + step, y}, {x, y - step}, {x, y + step}};
     for (const auto& xy : nb) {
       if (xy[0] < 0 || xy[1] < 0 || xy[0] >= f.width || xy[1] >= f.height) continue;
@@ -344,6 +389,7 @@ bool continues_above(const Frame& f, const std::vector<int>& grid_pixels, int st
       joins += dx * dx + dy * dy + dz * dz <= tol2;
     }
   }
+  // A few joins suffice for a thin leg seen from afar (a handful of grid pixels wide).
   return joins >= std::max<size_t>(8, grid_pixels.size() / 50);
 }
 
@@ -358,7 +404,6 @@ std::vector<int> expand_cluster(const Frame& f, const std::vector<int>& grid_pix
   std::sort(grid.begin(), grid.end());
   std::vector<int> out;
   out.reserve(grid.size() * step * step);
-  const double tol2 = params.cluster_tolerance_m * params.cluster_tolerance_m;
   for (size_t row = 0; row < grid.size();) {
     const int y = grid[row] / f.width;
     size_t end = row;
@@ -367,6 +412,7 @@ std::vector<int> expand_cluster(const Frame& f, const std::vector<int>& grid_pix
       for (size_t k = row; k < end; ++k) {
         const int x = grid[k] % f.width;
         const PointXYZRGB& c = f.points[grid[k]];
+        const double tol = cluster_tolerance(params, c.z), tol2 = tol * tol;
         for (int dx = 0; dx < step && x + dx < f.width; ++dx) {
           const int j = (y + dy) * f.width + x + dx;
           const PointXYZRGB& q = f.points[j];
@@ -481,6 +527,7 @@ void merge_parts(const Frame& f, const ScanParams& params, ScanResult& result,
     for (size_t j = 0; j < k && owner[by_size[k]] < 0; ++j) {
       const size_t big = by_size[j];
       if (owner[big] >= 0 || result.clusters[big].shape.primitives.empty()) continue;
+      if (!(result.clusters[big].support == part.support)) continue;
       const ShapeFit& solid = result.clusters[big].shape.primitives.front();
       size_t inside = 0;
       for (const Vec3& p : part.points) inside += within_shape(solid, p, params.part_margin_m);
@@ -502,7 +549,7 @@ void merge_parts(const Frame& f, const ScanParams& params, ScanResult& result,
     if (!grown[c]) return;
     ScanCluster& sc = result.clusters[c];
     smooth_cluster(f, sc.pixels, label, static_cast<int>(c), params, sc.points, normals[c]);
-    sc.shape = recognize_object_shape(sc.points, normals[c], result.plane, params.shape);
+    sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
   });
   std::vector<ScanCluster> kept;
   for (size_t c = 0; c < n; ++c)
@@ -513,17 +560,30 @@ void merge_parts(const Frame& f, const ScanParams& params, ScanResult& result,
 // Objects standing on another object's top are fitted on that top (stacking.h).
 void restack(ScanResult& result, std::vector<std::vector<Vec3>>& normals, const ScanParams& params) {
   if (!params.stack_on_objects || result.clusters.size() < 2) return;
-  std::vector<StackedObject> objects(result.clusters.size());
-  for (size_t c = 0; c < objects.size(); ++c) {
-    objects[c].points = std::move(result.clusters[c].points);
-    objects[c].normals = std::move(normals[c]);
-    objects[c].shape = std::move(result.clusters[c].shape);
-  }
-  fit_stacked_objects(objects, result.plane, params.shape);
-  for (size_t c = 0; c < objects.size(); ++c) {
-    result.clusters[c].points = std::move(objects[c].points);
-    normals[c] = std::move(objects[c].normals);
-    result.clusters[c].shape = std::move(objects[c].shape);
+  // Stacks form on one support at a time: the objects standing on the same surface.
+  std::vector<bool> done(result.clusters.size(), false);
+  for (size_t first = 0; first < result.clusters.size(); ++first) {
+    if (done[first]) continue;
+    const Plane support = result.clusters[first].support;
+    std::vector<size_t> group;
+    for (size_t c = first; c < result.clusters.size(); ++c)
+      if (!done[c] && result.clusters[c].support == support) {
+        group.push_back(c);
+        done[c] = true;
+      }
+    if (group.size() < 2) continue;
+    std::vector<StackedObject> objects(group.size());
+    for (size_t g = 0; g < group.size(); ++g) {
+      objects[g].points = std::move(result.clusters[group[g]].points);
+      objects[g].normals = std::move(normals[group[g]]);
+      objects[g].shape = std::move(result.clusters[group[g]].shape);
+    }
+    fit_stacked_objects(objects, support, params.shape);
+    for (size_t g = 0; g < group.size(); ++g) {
+      result.clusters[group[g]].points = std::move(objects[g].points);
+      normals[group[g]] = std::move(objects[g].normals);
+      result.clusters[group[g]].shape = std::move(objects[g].shape);
+    }
   }
 }
 
@@ -585,8 +645,13 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   const Vec3 up = effective_up(params);
 
   auto t0 = Clock::now();
+  const int stride = std::max(1, params.pixel_stride);
   std::vector<int> strided;
-  const PlaneSearch ps = find_plane(f, params, up, strided, rng);
+  for (int y = 0; y < f.height; y += stride)
+    for (int x = 0; x < f.width; x += stride) {
+      const int i = y * f.width + x;
+      if (valid(f.points[i]) && f.points[i].z <= params.max_depth_m) strided.push_back(i);
+    }
   if (strided.size() < 50) {
     // Valid points that all lie beyond the range are most often a cloud in millimetres.
     std::vector<float> far;
@@ -601,78 +666,288 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
                   median > 50 ? "; Annex expects metres (is this cloud in millimetres?)" : "");
     return Error{text, where};
   }
-  const int stride = std::max(1, params.pixel_stride);
-  if (!ps.plane.ok || ps.inliers * stride * stride < params.min_plane_points)
+  // Every support: planes extracted one after another, each one's inliers leaving the
+  // search. A plane counts when its kept regions hold min_plane_points.
+  struct Found {
+    PlaneFit plane;
+    Hull2 hull;
+    PlaneRegions regions;
+    int points = 0;
+  };
+  std::vector<Found> found;
+  std::vector<char> free(f.points.size(), 0);
+  for (int i : strided) free[i] = 1;
+  std::vector<int> pool = strided;
+  const int min_region = std::max(1, params.min_plane_points / (4 * stride * stride));
+  const double cos_tilt = std::cos(params.max_support_tilt_deg * 3.14159265358979 / 180.0);
+  std::vector<std::pair<PlaneFit, std::vector<PlaneRegions>>> planes;
+  for (int attempt = 0; attempt < params.max_planes && pool.size() >= 50; ++attempt) {
+    const PlaneSearch ps =
+        planes.empty() ? find_plane(f, params, up, params.max_plane_angle_deg, pool, free, false, rng)
+                       : find_plane(f, params, planes.front().first.n, params.max_plane_angle_deg,
+                                    pool, free, true, rng);
+    if (!ps.plane.ok || ps.inliers * stride * stride < params.min_plane_points) break;
+    std::vector<PlaneRegions> regions =
+        plane_regions(f, pool, free, ps.plane, params, stride, min_region, true);
+    // Its inliers leave the search whether it counts or not (an object's top).
+    for (int i : pool) {
+      const Vec3 p = to_vec(f.points[i]);
+      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < plane_band(params, p.z)) free[i] = 0;
+    }
+    std::erase_if(pool, [&](int i) { return !free[i]; });
+    int total = 0;
+    for (const PlaneRegions& r : regions) total += static_cast<int>(r.members.size()) * stride * stride;
+    if (total < params.min_plane_points) continue;
+    // Later supports share the first one's up once refined (single RANSAC triples on
+    // a far, noisy floor scatter by more than that).
+    if (!planes.empty() && dot(ps.plane.n, planes.front().first.n) < cos_tilt) continue;
+    // ... and lie clearly above or below every earlier one where they are seen: a
+    // plane through the far floor's noise is not a second support.
+    bool apart = true;
+    for (const auto& [other, other_regions] : planes) {
+      std::vector<double> hs;
+      for (const PlaneRegions& r : regions)
+        for (size_t m = 0; m < r.members.size(); m += 7)
+          hs.push_back(dot(other.n, to_vec(f.points[r.members[m]])) + other.d);
+      if (!hs.empty()) {
+        std::nth_element(hs.begin(), hs.begin() + hs.size() / 2, hs.end());
+        if (std::abs(hs[hs.size() / 2]) < params.min_support_gap_m) apart = false;
+      }
+    }
+    if (!apart) continue;
+    planes.emplace_back(ps.plane, std::move(regions));
+  }
+  // The lowest plane is the floor (or the one support seen): one support of all its
+  // regions, as a floor seen between furniture is one floor. Every other plane gives
+  // one support per region (a box's top and a cabinet's top at one height are two),
+  // each spanning at least min_support_area_m2.
+  size_t lowest_plane = 0;
+  for (size_t k = 1; k < planes.size(); ++k)
+    if (planes[k].first.d > planes[lowest_plane].first.d) lowest_plane = k;
+  for (size_t k = 0; k < planes.size(); ++k) {
+    auto& [plane, regions] = planes[k];
+    if (k == lowest_plane) {
+      Found fd;
+      fd.plane = plane;
+      for (PlaneRegions& r : regions) {
+        fd.regions.members.insert(fd.regions.members.end(), r.members.begin(), r.members.end());
+        fd.regions.hull_points.insert(fd.regions.hull_points.end(), r.hull_points.begin(),
+                                      r.hull_points.end());
+        fd.regions.touches_bottom = fd.regions.touches_bottom || r.touches_bottom;
+      }
+      fd.points = static_cast<int>(fd.regions.members.size()) * stride * stride;
+      found.push_back(std::move(fd));
+      continue;
+    }
+    for (PlaneRegions& region : regions) {
+      Found fd;
+      fd.plane = plane;
+      fd.points = static_cast<int>(region.members.size()) * stride * stride;
+      fd.regions = std::move(region);
+      if (fd.points < params.min_plane_points) continue;
+      if (hull_area(convex_hull(fd.regions.hull_points, fd.plane.n)) < params.min_support_area_m2)
+        continue;
+      found.push_back(std::move(fd));
+    }
+  }
+  if (found.empty())
     return Error{"no horizontal plane found (support must be within " +
                      std::to_string(static_cast<int>(params.max_plane_angle_deg)) +
                      " degrees of the up vector; see max_plane_angle_deg, up, camera_tilt_deg)",
                  where};
-  result.plane = {ps.plane.n, ps.plane.d};
-  result.scene.support = result.plane;
-  result.plane_inliers = ps.inliers * stride * stride;
+  std::stable_sort(found.begin(), found.end(),
+                   [](const Found& a, const Found& b) { return a.points > b.points; });
   result.stages.push_back({"plane", ms_since(t0)});
 
   t0 = Clock::now();
-  const std::vector<Vec3> region =
-      largest_plane_region(f, strided, ps.plane, params, stride);
-  // The support continues under the camera's view: the floor between the camera
-  // and its visible part is hidden by the objects standing on it or out of view, so
-  // the camera's foot on the plane joins the hull.
-  std::vector<Vec3> hull_points = region;
-  if (params.hull_to_camera) hull_points.push_back(ps.plane.n * -ps.plane.d);
-  Hull2 hull = convex_hull(hull_points, ps.plane.n);
-  if (params.hull_margin_m > 0 && hull.pts.size() >= 3) {
-    // The hull grown by the margin (its corners swept by a 16-gon): a support seen
-    // only in part, such as a floor behind furniture, still holds what stands beside it.
-    std::vector<Vec3> grown;
-    for (const auto& q : hull.pts)
-      for (int k = 0; k < 16; ++k) {
-        const double t = 2 * 3.14159265358979 * k / 16;
-        grown.push_back(hull.u * (q[0] + params.hull_margin_m * std::cos(t)) +
-                        hull.v * (q[1] + params.hull_margin_m * std::sin(t)));
+  // Hulls: the kept regions, plus the camera's foot on the plane when the support
+  // runs out of the image's bottom (it continues towards the camera, hidden by the
+  // objects on it or out of view) or is the lowest, grown by hull_margin_m.
+  // The lowest support (the floor when it shows) always runs under the camera: the
+  // camera is above it, so objects in front of its visible part stand on it too.
+  size_t lowest = 0;
+  for (size_t k = 1; k < found.size(); ++k)
+    if (found[k].plane.d > found[lowest].plane.d) lowest = k;
+  for (size_t k = 0; k < found.size(); ++k) {
+    Found& fd = found[k];
+    std::vector<Vec3> hull_points = fd.regions.hull_points;
+    if (params.hull_to_camera && (fd.regions.touches_bottom || k == lowest))
+      hull_points.push_back(fd.plane.n * -fd.plane.d);
+    fd.hull = convex_hull(hull_points, fd.plane.n);
+    // The floor runs on under what stands on it beyond its visible patches (a storage
+    // box in front of a floor seen between furniture): its hull grows by
+    // floor_margin_m; every support by hull_margin_m.
+    const double margin = std::max(params.hull_margin_m,
+                                   k == lowest && found.size() >= 1 ? params.floor_margin_m : 0.0);
+    if (margin > 0 && fd.hull.pts.size() >= 3) {
+      std::vector<Vec3> grown;
+      for (const auto& q : fd.hull.pts)
+        for (int j = 0; j < 16; ++j) {
+          const double t = 2 * 3.14159265358979 * j / 16;
+          grown.push_back(fd.hull.u * (q[0] + margin * std::cos(t)) +
+                          fd.hull.v * (q[1] + margin * std::sin(t)));
+        }
+      fd.hull = convex_hull(grown, fd.plane.n);
+    }
+    ScanSupport sup;
+    sup.surface.id = "s" + std::to_string(k + 1);
+    sup.surface.plane = {fd.plane.n, fd.plane.d};
+    sup.surface.point_count = fd.points;
+    sup.area_m2 = hull_area(fd.hull);
+    sup.furniture = sup.area_m2 > params.furniture_area_m2;
+    double nearest = 1e9;
+    for (int i : fd.regions.members) nearest = std::min(nearest, norm(to_vec(f.points[i])));
+    sup.distance_m = nearest;
+    for (const auto& q : fd.hull.pts) {
+      Vec3 p = fd.hull.u * q[0] + fd.hull.v * q[1];
+      p = p - fd.plane.n * (dot(fd.plane.n, p) + fd.plane.d);
+      sup.hull.push_back(p);
+    }
+    result.supports.push_back(std::move(sup));
+  }
+  // Which supports' objects are reported.
+  {
+    std::vector<size_t> reach;
+    for (size_t k = 0; k < result.supports.size(); ++k)
+      if (result.supports[k].distance_m <= params.support_reach_m) reach.push_back(k);
+    auto pick = [&](auto better) {
+      size_t best = reach.front();
+      for (size_t k : reach)
+        if (better(result.supports[k], result.supports[best])) best = k;
+      result.supports[best].selected = true;
+    };
+    if (params.supports == SupportSelection::id) {
+      bool any = false;
+      for (ScanSupport& sp : result.supports)
+        if (sp.surface.id == params.support_id) sp.selected = any = true;
+      if (!any) {
+        std::string ids;
+        for (const ScanSupport& sp : result.supports) ids += (ids.empty() ? "" : ", ") + sp.surface.id;
+        return Error{"no support '" + params.support_id + "' in this frame (found: " + ids + ")",
+                     where};
       }
-    hull = convex_hull(grown, ps.plane.n);
+    } else if (reach.empty()) {
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "no support within support_reach_m (%g m): the nearest is %.2f m away",
+                    params.support_reach_m, result.supports.front().distance_m);
+      return Error{text, where};
+    } else if (params.supports == SupportSelection::nearest) {
+      pick([](const ScanSupport& a, const ScanSupport& b) { return a.distance_m < b.distance_m; });
+    } else if (params.supports == SupportSelection::highest) {
+      // Highest along up: the camera's height above it is smallest.
+      pick([](const ScanSupport& a, const ScanSupport& b) { return a.surface.plane.d < b.surface.plane.d; });
+    } else if (params.supports == SupportSelection::largest) {
+      pick([](const ScanSupport& a, const ScanSupport& b) {
+        return a.surface.point_count > b.surface.point_count;
+      });
+    } else {
+      for (size_t k : reach) result.supports[k].selected = true;
+    }
   }
-  for (const auto& q : hull.pts) {
-    Vec3 p = hull.u * q[0] + hull.v * q[1];
-    p = p - ps.plane.n * (dot(ps.plane.n, p) + ps.plane.d);
-    result.hull.push_back(p);
-  }
-  // The prism test runs on the strided grid; clusters grow there and are then
-  // expanded to full resolution.
+  for (const ScanSupport& sp : result.supports)
+    if (sp.selected) result.scene.supports.push_back(sp.surface);
+  for (size_t k = 0; k < result.supports.size(); ++k)
+    if (result.supports[k].selected) {
+      result.plane = result.supports[k].surface.plane;
+      result.hull = result.supports[k].hull;
+      result.plane_inliers = result.supports[k].surface.point_count;
+      break;
+    }
+  result.scene.support = result.plane;
+
+  // The prism test runs on the strided grid: a pixel is a candidate of the nearest
+  // support below it whose hull it stands in, within the height band. Pixels on a
+  // furniture support's surface are never candidates. Clusters grow there and are
+  // then expanded to full resolution.
+  const size_t ns = found.size();
   std::vector<char> mask(f.points.size(), 0);
   std::vector<int> seeds;
   for (int i : strided) {
-    const PointXYZRGB& q = f.points[i];
-    const Vec3 p = to_vec(q);
-    const double h = dot(ps.plane.n, p) + ps.plane.d;
-    if (h < std::max(params.min_height_m, plane_band(params, p.z)) || h > params.max_height_m)
-      continue;
-    if (hull.contains(p)) {
-      mask[i] = 1;
-      seeds.push_back(i);
+    const Vec3 p = to_vec(f.points[i]);
+    int owner = -1;
+    double owner_h = 1e9;
+    bool surface = false;
+    for (size_t k = 0; k < ns; ++k) {
+      const Found& fd = found[k];
+      const double h = dot(fd.plane.n, p) + fd.plane.d;
+      const double band = plane_band(params, p.z);
+      if (h > params.max_height_m || h < -band) continue;
+      if (!fd.hull.contains(p)) continue;
+      if (h < std::max(params.min_height_m, band)) {
+        surface = surface || result.supports[k].furniture;
+        continue;
+      }
+      if (h < owner_h) owner_h = h, owner = static_cast<int>(k);
     }
+    if (surface || owner < 0) continue;
+    mask[i] = static_cast<char>(owner + 1);
+    seeds.push_back(i);
   }
   result.stages.push_back({"prism", ms_since(t0)});
 
   t0 = Clock::now();
-  std::vector<std::vector<int>> clusters;
-  for (const std::vector<int>& whole : grow_clusters(f, mask, seeds, stride, params)) {
-    if (static_cast<int>(whole.size()) * stride * stride < params.min_cluster_points / 2) continue;
-    if (params.drop_cut_clusters && continues_above(f, whole, stride, ps.plane, params)) continue;
+  struct Candidate {
+    std::vector<int> pixels;
+    int support = 0;
+  };
+  std::vector<Candidate> clusters;
+  for (const std::vector<int>& grid : grow_clusters(f, mask, seeds, stride, params)) {
+    const int k = mask[grid.front()] - 1;
+    if (!result.supports[static_cast<size_t>(k)].selected) continue;
+    const PlaneFit& plane = found[static_cast<size_t>(k)].plane;
+    // The size floor falls with the square of depth, as a surface's pixel count does.
+    double z = 0;
+    for (int i : grid) z += f.points[i].z;
+    z /= static_cast<double>(grid.size());
+    const int min_points = std::max(params.min_cluster_points_far,
+                                    static_cast<int>(params.min_cluster_points / std::max(1.0, z * z)));
+    if (static_cast<int>(grid.size()) * stride * stride < min_points / 2) continue;
+    if (params.drop_cut_clusters && continues_above(f, grid, stride, plane, params)) continue;
+    // Under a support above its own, inside its hull, and spanning only a small share
+    // of its width across the view: a table's leg, a chair's base under the table,
+    // not an object. A cluster as wide as the support is the body of the object whose
+    // top the support is (a storage box, a stool) and is kept. Widths are measured
+    // along the camera's x axis laid on the plane: a box seen face-on shows no depth,
+    // but its full width.
+    bool under = false;
+    for (size_t o = 0; o < ns && !under; ++o) {
+      if (static_cast<int>(o) == k) continue;
+      const PlaneFit& top = found[o].plane;
+      if (top.d >= plane.d || dot(top.n, plane.n) < cos_tilt) continue;  // not above it
+      const Vec3 across = normalized(Vec3{1, 0, 0} - top.n * top.n.x);
+      double lo = 1e9, hi = -1e9;
+      size_t below = 0;
+      for (int i : grid) {
+        const Vec3 p = to_vec(f.points[i]);
+        if (dot(top.n, p) + top.d < 0 && found[o].hull.contains(p)) {
+          ++below;
+          lo = std::min(lo, dot(across, p));
+          hi = std::max(hi, dot(across, p));
+        }
+      }
+      if (below * 2 <= grid.size()) continue;
+      double slo = 1e9, shi = -1e9;
+      for (const Vec3& q : result.supports[o].hull) {
+        slo = std::min(slo, dot(across, q));
+        shi = std::max(shi, dot(across, q));
+      }
+      under = hi - lo < params.under_width_share * (shi - slo);
+    }
+    if (under) continue;
     // Touching objects apart at the creases and depth steps between them.
-    for (const std::vector<int>& grid :
-         split_cluster(f, whole, stride, params.cluster_tolerance_m, params.segment)) {
-      std::vector<int> full = expand_cluster(f, grid, stride, ps.plane, params);
-      if (static_cast<int>(full.size()) < params.min_cluster_points ||
+    for (const std::vector<int>& part :
+         split_cluster(f, grid, stride, params.cluster_tolerance_m, params.segment)) {
+      std::vector<int> full = expand_cluster(f, part, stride, plane, params);
+      if (static_cast<int>(full.size()) < min_points ||
           static_cast<int>(full.size()) > params.max_cluster_points)
         continue;
-      clusters.push_back(std::move(full));
+      clusters.push_back({std::move(full), k});
     }
   }
   std::vector<int> label(f.points.size(), -1);
   for (size_t c = 0; c < clusters.size(); ++c)
-    for (int i : clusters[c]) label[i] = static_cast<int>(c);
+    for (int i : clusters[c].pixels) label[i] = static_cast<int>(c);
   result.stages.push_back({"clusters", ms_since(t0)});
 
   t0 = Clock::now();
@@ -682,15 +957,16 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   result.clusters.resize(clusters.size());
   parallel_for(clusters.size(), params.threads, [&](size_t c) {
     ScanCluster& sc = result.clusters[c];
-    sc.pixels = clusters[c];
-    smooth_cluster(f, clusters[c], label, static_cast<int>(c), params, sc.points, normals[c]);
+    sc.pixels = clusters[c].pixels;
+    sc.support = result.supports[static_cast<size_t>(clusters[c].support)].surface.plane;
+    smooth_cluster(f, sc.pixels, label, static_cast<int>(c), params, sc.points, normals[c]);
   });
   result.stages.push_back({"mls", ms_since(t0)});
 
   t0 = Clock::now();
   parallel_for(clusters.size(), params.threads, [&](size_t c) {
     ScanCluster& sc = result.clusters[c];
-    sc.shape = recognize_object_shape(sc.points, normals[c], result.plane, params.shape);
+    sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
   });
   restack(result, normals, params);
   merge_parts(f, params, result, label, normals);
@@ -704,15 +980,48 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
         [&](ScanCluster& sc, int id) {
           std::vector<Vec3> n;
           smooth_cluster(f, sc.pixels, label, id, params, sc.points, n);
-          sc.shape = recognize_object_shape(sc.points, n, result.plane, params.shape);
+          sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape);
         },
         params.shape.min_coverage);
   }
+  // The image border as the sensor sees it: the rectangle of rows and columns that
+  // hold depth (a Kinect leaves a few invalid rows and columns at its edges).
+  int left = 0, right = f.width - 1, top = 0, bottom = f.height - 1;
+  {
+    const int gw = (f.width + stride - 1) / stride, gh = (f.height + stride - 1) / stride;
+    std::vector<int> rows(static_cast<size_t>(gh), 0), cols(static_cast<size_t>(gw), 0);
+    for (int i : strided) {
+      ++rows[static_cast<size_t>(i / f.width / stride)];
+      ++cols[static_cast<size_t>(i % f.width / stride)];
+    }
+    auto first = [](const std::vector<int>& v, int need) {
+      for (size_t k = 0; k < v.size(); ++k)
+        if (v[k] >= need) return static_cast<int>(k);
+      return 0;
+    };
+    auto last = [](const std::vector<int>& v, int need) {
+      for (size_t k = v.size(); k-- > 0;)
+        if (v[k] >= need) return static_cast<int>(k);
+      return static_cast<int>(v.size()) - 1;
+    };
+    top = first(rows, gw / 5) * stride, bottom = last(rows, gw / 5) * stride + stride - 1;
+    left = first(cols, gh / 5) * stride, right = last(cols, gh / 5) * stride + stride - 1;
+  }
+  const int border = std::max(0, params.border_px);
   for (const ScanCluster& sc : result.clusters) {
     PhysicalObject obj;
     for (const ShapeFit& fit : sc.shape.primitives) obj.primitives.push_back(fit.primitive);
     obj.point_count = static_cast<int>(sc.pixels.size());
     obj.fit = sc.shape.fit;
+    for (const ScanSupport& sp : result.supports)
+      if (sp.surface.plane == sc.support) obj.support_id = sp.surface.id;
+    int at_border = 0;
+    for (int i : sc.pixels) {
+      const int x = i % f.width, y = i / f.width;
+      at_border += x < left + border || y < top + border || x > right - border ||
+                   y > bottom - border;
+    }
+    obj.partial = at_border >= 3 || obj.point_count < params.min_whole_points;
     result.scene.objects.push_back(std::move(obj));
   }
   result.stages.push_back({"shapes", ms_since(t0)});

@@ -1,6 +1,7 @@
 // The scan config file: `key value...` lines, `#` comments, blank lines ignored.
 // Every key names a ScanParams field (samples/config/scan.conf lists them all with
 // the Kinect defaults). Errors: file:line:col.
+#include <algorithm>
 #include <charconv>
 #include <optional>
 #include <cmath>
@@ -44,6 +45,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"plane_distance_m", Kind::positive, &p.plane_distance_m},
       {"plane_noise_factor", Kind::non_negative, &p.plane_noise_factor},
       {"hull_margin_m", Kind::non_negative, &p.hull_margin_m},
+      {"floor_margin_m", Kind::non_negative, &p.floor_margin_m},
       {"plane_iterations", Kind::whole, nullptr, &p.plane_iterations, 1},
       {"min_plane_points", Kind::whole, nullptr, &p.min_plane_points, 3},
       {"pixel_stride", Kind::whole, nullptr, &p.pixel_stride, 1},
@@ -51,6 +53,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"max_height_m", Kind::positive, &p.max_height_m},
       {"max_depth_m", Kind::positive, &p.max_depth_m},
       {"cluster_tolerance_m", Kind::positive, &p.cluster_tolerance_m},
+      {"cluster_noise_factor", Kind::non_negative, &p.cluster_noise_factor},
       {"cluster_window_px", Kind::whole, nullptr, &p.cluster_window_px, 1},
       {"min_cluster_points", Kind::whole, nullptr, &p.min_cluster_points, 12},
       {"max_cluster_points", Kind::whole, nullptr, &p.max_cluster_points, 12},
@@ -60,6 +63,16 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"part_margin_m", Kind::non_negative, &p.part_margin_m},
       {"part_share", Kind::unit_share, &p.part_share},
       {"threads", Kind::whole, nullptr, &p.threads, 1},
+      {"max_planes", Kind::whole, nullptr, &p.max_planes, 1},
+      {"support_reach_m", Kind::positive, &p.support_reach_m},
+      {"furniture_area_m2", Kind::non_negative, &p.furniture_area_m2},
+      {"max_support_tilt_deg", Kind::angle, &p.max_support_tilt_deg},
+      {"min_support_area_m2", Kind::non_negative, &p.min_support_area_m2},
+      {"min_support_gap_m", Kind::non_negative, &p.min_support_gap_m},
+      {"under_width_share", Kind::unit_share, &p.under_width_share},
+      {"min_cluster_points_far", Kind::whole, nullptr, &p.min_cluster_points_far, 12},
+      {"border_px", Kind::whole, nullptr, &p.border_px, 0},
+      {"min_whole_points", Kind::whole, nullptr, &p.min_whole_points, 0},
       {"hull_to_camera", Kind::flag, nullptr, nullptr, 0, &p.hull_to_camera},
       {"drop_cut_clusters", Kind::flag, nullptr, nullptr, 0, &p.drop_cut_clusters},
       {"shape_min_tolerance_m", Kind::positive, &p.shape.min_tolerance_m},
@@ -123,6 +136,10 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       if (std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) < 1e-9)
         return error("'up' must not be the zero vector", line_no, tok[1].column);
       p.up = {v[0], v[1], v[2]};
+    } else if (key == "supports") {
+      Result<ScanParams> chosen = with_support_selection(p, tok[1].text);
+      if (!chosen) return error(chosen.error().message, line_no, tok[1].column);
+      p = *chosen;
     } else if (key == "seed") {
       std::uint64_t s = 0;
       const std::string_view t = tok[1].text;
@@ -136,7 +153,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       for (const Field& f : fields)
         if (f.key == key) field = &f;
       if (!field) {
-        std::vector<std::string_view> keys{"up", "seed"};
+        std::vector<std::string_view> keys{"up", "seed", "supports"};
         for (const Field& f : fields) keys.push_back(f.key);
         return error("unknown key " + in_quotes(key) + detail::suggestion(key, keys), line_no,
                      tok[0].column);
@@ -184,6 +201,30 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
     return error("shape_max_radius_m must exceed shape_min_radius_m", 0, 0);
   p.shape.seed = seed;
   return p;
+}
+
+Result<ScanParams> with_support_selection(ScanParams params, std::string_view choice) {
+  const std::pair<std::string_view, SupportSelection> names[] = {
+      {"all", SupportSelection::all},
+      {"nearest", SupportSelection::nearest},
+      {"highest", SupportSelection::highest},
+      {"largest", SupportSelection::largest}};
+  for (const auto& [name, value] : names)
+    if (choice == name) {
+      params.supports = value;
+      params.support_id.clear();
+      return params;
+    }
+  // A support id: 's' and a whole number from 1.
+  const bool id = choice.size() >= 2 && choice[0] == 's' && choice[1] != '0' &&
+                  std::all_of(choice.begin() + 1, choice.end(), [](char c) { return c >= '0' && c <= '9'; });
+  if (!id)
+    return Error{"supports must be all, nearest, highest, largest or a support id such as s2, got '" +
+                     std::string(choice) + "'",
+                 {}};
+  params.supports = SupportSelection::id;
+  params.support_id = std::string(choice);
+  return params;
 }
 
 Result<ScanParams> read_scan_config_file(const std::filesystem::path& path) {

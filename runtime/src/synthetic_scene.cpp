@@ -70,6 +70,15 @@ double footprint_radius(const SyntheticObject& o) {
   return 0;
 }
 
+// Cones of every kind (world_scene_params): apex up or down, pointed or cut, flat or
+// tall. A cone apex down always keeps a foot (it could not stand on its tip).
+void vary_cone(SyntheticObject& o, std::mt19937_64& rng) {
+  o.dimensions_m = {uniform(rng, 0.04, 0.12), uniform(rng, 0.03, 0.25)};
+  o.apex_down = uniform(rng, 0, 1) < 0.5;
+  const bool cut = o.apex_down || uniform(rng, 0, 1) < 0.5;
+  o.narrow_radius_m = cut ? o.dimensions_m[0] * uniform(rng, 0.35, 0.75) : 0.0;
+}
+
 std::vector<double> random_dimensions(ShapeKind kind, std::mt19937_64& rng) {
   switch (kind) {
     case ShapeKind::sphere: return {uniform(rng, 0.03, 0.08)};
@@ -173,18 +182,21 @@ LocalHit hit_cylinder(Vec3 o, Vec3 d, double r, double height) {
   return h;
 }
 
-// Cone with its base (radius r) at z = -height/2 and its apex at z = +height/2.
-LocalHit hit_cone(Vec3 o, Vec3 d, double r, double height) {
+// Cone with its base (radius r) at z = -height/2 narrowing towards z = +height/2: to
+// its apex there, or to a top cap of radius `narrow` (a frustum).
+LocalHit hit_cone(Vec3 o, Vec3 d, double r, double height, double narrow = 0) {
   LocalHit h;
   const double hh = height * 0.5;
-  const double k2 = (r / height) * (r / height);
-  const double w0 = hh - o.z;  // distance below the apex at t = 0
+  const double k = (r - narrow) / height;  // radius lost per metre of height
+  const double k2 = k * k;
+  const double apex = narrow > 0 ? -hh + r / k : hh;  // z of the (virtual) apex
+  const double w0 = apex - o.z;  // distance below the apex at t = 0
   quadratic_hits(d.x * d.x + d.y * d.y - k2 * d.z * d.z, o.x * d.x + o.y * d.y + k2 * w0 * d.z,
                  o.x * o.x + o.y * o.y - k2 * w0 * w0, [&](double t) {
                    if (t <= kMinT) return false;
                    const Vec3 p = o + d * t;
-                   const double w = hh - p.z;
-                   if (w < 0 || w > height) return false;
+                   const double w = apex - p.z;
+                   if (p.z < -hh || p.z > hh || w < 0) return false;
                    consider(h, t, normalized(Vec3{p.x, p.y, k2 * w}));
                    return true;
                  });
@@ -192,6 +204,11 @@ LocalHit hit_cone(Vec3 o, Vec3 d, double r, double height) {
     const double t = (-hh - o.z) / d.z;
     const Vec3 p = o + d * t;
     if (p.x * p.x + p.y * p.y <= r * r) consider(h, t, {0, 0, -1});
+    if (narrow > 0) {
+      const double t1 = (hh - o.z) / d.z;
+      const Vec3 q = o + d * t1;
+      if (q.x * q.x + q.y * q.y <= narrow * narrow) consider(h, t1, {0, 0, 1});
+    }
   }
   return h;
 }
@@ -267,7 +284,13 @@ LocalHit hit_object(const SyntheticObject& obj, Vec3 origin, Vec3 dir) {
   switch (obj.kind) {
     case ShapeKind::sphere: h = hit_sphere(o, d, dim[0]); break;
     case ShapeKind::cylinder: h = hit_cylinder(o, d, dim[0], dim[1]); break;
-    case ShapeKind::cone: h = hit_cone(o, d, dim[0], dim[1]); break;
+    case ShapeKind::cone: {
+      // Apex down: the cone mirrored about its middle.
+      const double m = obj.apex_down ? -1 : 1;
+      h = hit_cone({o.x, o.y, m * o.z}, {d.x, d.y, m * d.z}, dim[0], dim[1], obj.narrow_radius_m);
+      h.normal.z *= m;
+      break;
+    }
     case ShapeKind::torus: h = hit_torus(o, d, dim[0], dim[1]); break;
     case ShapeKind::box: h = hit_box(o, d, {dim[0] * 0.5, dim[1] * 0.5, dim[2] * 0.5}); break;
   }
@@ -316,6 +339,12 @@ Vec3 table_to_camera_point(const SyntheticScene& scene, Vec3 p) {
 
 namespace {
 constexpr int kLayoutAttempts = 30;
+// Which side of the table the second support goes (the tall furniture the other);
+// draws from the stream only when there is furniture beside the table.
+double uniform_side(const SyntheticSceneParams& params, std::mt19937_64& rng) {
+  if (params.side_support_objects <= 0 && !params.tall_furniture) return 1;
+  return uniform(rng, 0, 1) < 0.5 ? -1 : 1;
+}
 constexpr int kPlacementAttempts = 300;
 std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std::mt19937_64& rng,
                                          int& placed_count);
@@ -327,9 +356,11 @@ Result<SyntheticScene> generate_scene(const SyntheticSceneParams& params) {
     return Error{"no shape kinds to choose from", {}};
   if (!(params.camera_distance_min_m > 0.3) ||
       params.camera_distance_max_m < params.camera_distance_min_m ||
-      !(params.camera_tilt_min_deg > 0) || params.camera_tilt_max_deg > 89 ||
+      !(params.camera_tilt_min_deg >= 0) || params.camera_tilt_max_deg > 89 ||
       params.camera_tilt_max_deg < params.camera_tilt_min_deg)
     return Error{"camera distance or tilt range out of bounds", {}};
+  if (params.side_support_objects < 0 || !(params.cut_share >= 0 && params.cut_share <= 1))
+    return Error{"side support objects must not be negative, cut share within [0, 1]", {}};
 
   // Whole layouts are redrawn (camera included) when the objects do not fit; the
   // random stream stays the seed's, so the result is still deterministic.
@@ -362,40 +393,105 @@ std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std
   const double distance = uniform(rng, params.camera_distance_min_m, params.camera_distance_max_m);
   const Vec3 aim{uniform(rng, -0.1, 0.1), uniform(rng, -0.05, 0.05), 0};
   s.camera_position = aim - camera_axes(s.camera_tilt_deg).z * distance;
+  s.camera_position.z = std::max(s.camera_position.z, params.min_camera_height_m);
+
+  // Furniture: legs, a second support on one side, tall furniture on the other.
+  if (params.table_legs) {
+    const double leg = 0.05, inset = 0.06;
+    const double height = s.floor_depth_m - s.table_thickness_m;
+    for (double sx : {-1.0, 1.0})
+      for (double sy : {-1.0, 1.0})
+        s.furniture.push_back({{sx * (s.table_half_x_m - inset), sy * (s.table_half_y_m - inset),
+                                -s.table_thickness_m - height * 0.5},
+                               {leg, leg, height},
+                               SyntheticBlock::Role::leg});
+  }
+  const double side = uniform_side(params, rng);
+  if (params.side_support_objects > 0) {
+    const Vec3 size{uniform(rng, 0.35, 0.5), uniform(rng, 0.35, 0.5), uniform(rng, 0.35, 0.55)};
+    const double x = side * (s.table_half_x_m + uniform(rng, 0.15, 0.4) + size.x * 0.5);
+    s.furniture.push_back({{x, uniform(rng, -0.2, 0.1), -s.floor_depth_m + size.z * 0.5},
+                           size,
+                           SyntheticBlock::Role::support});
+  }
+  if (params.tall_furniture) {
+    const Vec3 size{uniform(rng, 0.4, 0.6), uniform(rng, 0.35, 0.5), uniform(rng, 1.6, 2.0)};
+    const double x = -side * (s.table_half_x_m + uniform(rng, 0.1, 0.4) + size.x * 0.5);
+    s.furniture.push_back({{x, uniform(rng, -0.2, 0.1), -s.floor_depth_m + size.z * 0.5},
+                           size,
+                           SyntheticBlock::Role::tall});
+  }
 
   auto palette = kPalette;
   std::shuffle(palette.begin(), palette.end(), rng);
 
   std::vector<PixelRect> rects;
   const double margin_px = 8;
-  for (int i = 0; i < params.object_count; ++i) {
+  const double width = s.camera.width, height = s.camera.height;
+  auto clip = [&](PixelRect r) {
+    return PixelRect{std::max(r.u0, 0.0), std::max(r.v0, 0.0), std::min(r.u1, width - 1),
+                     std::min(r.v1, height - 1)};
+  };
+  // Objects on the table first, then those on the second support (skipped when it
+  // has no room for them in view).
+  int support_index = 0;
+  for (std::size_t k = 0; k < s.furniture.size(); ++k)
+    if (s.furniture[k].role == SyntheticBlock::Role::support) support_index = static_cast<int>(k) + 1;
+  const int total = params.object_count + (support_index > 0 ? params.side_support_objects : 0);
+  for (int i = 0; i < total; ++i) {
+    const bool on_side = i >= params.object_count;
     SyntheticObject obj;
     obj.kind = params.kinds[std::uniform_int_distribution<std::size_t>(0, params.kinds.size() - 1)(rng)];
     obj.dimensions_m = random_dimensions(obj.kind, rng);
+    if (params.varied_cones && obj.kind == ShapeKind::cone) vary_cone(obj, rng);
     obj.yaw_deg = uniform(rng, 0, 360);
     obj.color = palette[static_cast<std::size_t>(i) % palette.size()];
     const double speed = uniform(rng, 0, params.max_speed_m_per_frame);
     const double heading = uniform(rng, 0, 2 * std::numbers::pi);
     obj.velocity_m_per_frame = {speed * std::cos(heading), speed * std::sin(heading), 0};
     obj.spin_deg_per_frame = uniform(rng, -params.max_spin_deg_per_frame, params.max_spin_deg_per_frame);
+    if (params.cut_share > 0 && !on_side) obj.cut = uniform(rng, 0, 1) < params.cut_share;
     const double f = footprint_radius(obj);
+    // The support's top rectangle and height in the table frame.
+    double cx = aim.x, cy = aim.y, hx = s.table_half_x_m, hy = s.table_half_y_m, top = 0;
+    double spread_x = obj.cut ? 0.7 : 0.4, spread_y = obj.cut ? 0.45 : 0.3;
+    if (on_side) {
+      const SyntheticBlock& b = s.furniture[static_cast<std::size_t>(support_index - 1)];
+      cx = b.center.x, cy = b.center.y, hx = b.size_m.x * 0.5, hy = b.size_m.y * 0.5;
+      top = b.center.z + b.size_m.z * 0.5;
+      spread_x = hx, spread_y = hy;
+      obj.support = support_index;
+    }
     bool placed = false;
-    for (int attempt = 0; attempt < kPlacementAttempts && !placed; ++attempt) {
-      obj.center = {aim.x + uniform(rng, -0.4, 0.4), aim.y + uniform(rng, -0.3, 0.3),
-                    center_height(obj)};
-      if (std::abs(obj.center.x) + f + 0.02 > s.table_half_x_m ||
-          std::abs(obj.center.y) + f + 0.02 > s.table_half_y_m)
-        continue;
+    // An object meant to be cut that finds no place across the border is placed whole.
+    for (int attempt = 0; attempt < 2 * kPlacementAttempts && !placed; ++attempt) {
+      if (attempt == kPlacementAttempts) {
+        if (!obj.cut) break;
+        obj.cut = false;
+        spread_x = 0.4, spread_y = 0.3;
+      }
+      obj.center = {cx + uniform(rng, -spread_x, spread_x), cy + uniform(rng, -spread_y, spread_y),
+                    top + center_height(obj)};
+      const double ox = on_side ? obj.center.x - cx : obj.center.x;
+      const double oy = on_side ? obj.center.y - cy : obj.center.y;
+      if (std::abs(ox) + f + 0.02 > hx || std::abs(oy) + f + 0.02 > hy) continue;
       bool clear = true;
       for (const SyntheticObject& other : s.objects) {
         const double gap = std::hypot(obj.center.x - other.center.x, obj.center.y - other.center.y);
         if (gap < f + footprint_radius(other) + 0.02) clear = false;
       }
       if (!clear) continue;
-      const PixelRect r = object_rect(s, obj);
-      if (r.u0 < margin_px || r.v0 < margin_px || r.u1 > s.camera.width - 1 - margin_px ||
-          r.v1 > s.camera.height - 1 - margin_px)
+      PixelRect r = object_rect(s, obj);
+      const bool inside = r.u0 >= margin_px && r.v0 >= margin_px &&
+                          r.u1 <= width - 1 - margin_px && r.v1 <= height - 1 - margin_px;
+      if (obj.cut) {
+        // Across the border, with a third of its image box or more inside.
+        const PixelRect c = clip(r);
+        if (inside || c.empty() || c.area() < r.area() / 3) continue;
+        r = c;
+      } else if (!inside) {
         continue;
+      }
       for (const PixelRect& other : rects)
         if (overlap_area(r, other) > params.max_view_overlap * std::min(r.area(), other.area()))
           clear = false;
@@ -403,6 +499,7 @@ std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std
       rects.push_back(r);
       placed = true;
     }
+    if (!placed && on_side) continue;
     if (!placed) {
       placed_count = i;
       return std::nullopt;
@@ -423,6 +520,21 @@ std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std
 }
 
 }  // namespace
+
+SyntheticSceneParams world_scene_params(std::uint64_t seed) {
+  SyntheticSceneParams p;
+  p.seed = seed;
+  p.camera_distance_min_m = 0.5;
+  p.camera_distance_max_m = 3.0;
+  p.camera_tilt_min_deg = 0;
+  p.camera_tilt_max_deg = 60;
+  p.table_legs = true;
+  p.side_support_objects = 2;
+  p.tall_furniture = true;
+  p.varied_cones = true;
+  p.cut_share = 0.25;
+  return p;
+}
 
 SyntheticObject resting_object(ShapeKind kind, std::vector<double> dimensions_m, double x_m,
                                double y_m, double yaw_deg) {
@@ -495,6 +607,9 @@ SyntheticFrame render_scene(const SyntheticScene& base, const SensorNoiseParams&
       take(hit_box(o - table_center, dir, table_half), kLabelTable);
       if (dir.z < 0) take({(-s.floor_depth_m - o.z) / dir.z, {0, 0, 1}}, kLabelFloor);
       if (dir.y > 0) take({(s.wall_y_m - o.y) / dir.y, {0, -1, 0}}, kLabelWall);
+      for (const SyntheticBlock& b : s.furniture)
+        take(hit_box(o - b.center, dir, b.size_m * 0.5),
+             b.role == SyntheticBlock::Role::leg ? kLabelLeg : kLabelFurniture);
       for (std::size_t i = 0; i < s.objects.size(); ++i) {
         const PixelRect& r = rects[i];
         if (u < r.u0 || u > r.u1 || v < r.v0 || v > r.v1) continue;
@@ -535,6 +650,8 @@ SyntheticFrame render_scene(const SyntheticScene& base, const SensorNoiseParams&
       if (px.label == kLabelTable) colour = {165, 120, 80};
       if (px.label == kLabelWall) colour = {205, 200, 185};
       if (px.label == kLabelOccluder) colour = {205, 155, 125};
+      if (px.label == kLabelLeg) colour = {120, 85, 55};
+      if (px.label == kLabelFurniture) colour = {150, 150, 160};
       colour = shade(colour, px.cos_incidence);
       p.r = colour[0], p.g = colour[1], p.b = colour[2];
       const double z = px.depth;
@@ -569,6 +686,19 @@ PhysicalScene ground_truth(const SyntheticScene& scene, const Frame* frame,
   table.normal = table_to_camera_direction(scene, kUp);
   table.d = -dot(table.normal, table_to_camera_point(scene, {0, 0, 0}));
   truth.support = table;
+  // Every support: the table, the floor, each furniture top that holds objects.
+  auto plane_at = [&](double z) {
+    return Plane{table.normal, -dot(table.normal, table_to_camera_point(scene, {0, 0, z}))};
+  };
+  truth.supports.push_back({"table", table, 0});
+  truth.supports.push_back({"floor", plane_at(-scene.floor_depth_m), 0});
+  std::vector<std::string> support_ids(scene.furniture.size() + 1, "table");
+  for (std::size_t k = 0; k < scene.furniture.size(); ++k) {
+    const SyntheticBlock& b = scene.furniture[k];
+    if (b.role != SyntheticBlock::Role::support) continue;
+    support_ids[k + 1] = "f" + std::to_string(k + 1);
+    truth.supports.push_back({support_ids[k + 1], plane_at(b.center.z + b.size_m.z * 0.5), 0});
+  }
 
   std::vector<int> counts(scene.objects.size(), 0);
   if (frame && labels && labels->size() == frame->points.size()) {
@@ -584,9 +714,12 @@ PhysicalScene ground_truth(const SyntheticScene& scene, const Frame* frame,
     prim.kind = o.kind;
     prim.dimensions_m = o.dimensions_m;
     prim.center = table_to_camera_point(scene, o.center);
-    prim.axis = table_to_camera_direction(scene, kUp);
+    prim.axis = table_to_camera_direction(scene, o.apex_down ? kUp * -1.0 : kUp);
+    prim.narrow_radius_m = o.kind == ShapeKind::cone ? o.narrow_radius_m : 0.0;
     prim.fit = 1.0;
     PhysicalObject obj;
+    obj.support_id = support_ids[static_cast<std::size_t>(std::max(0, o.support))];
+    obj.partial = o.cut;
     obj.id = "o";  // not "o" + ...: GCC 12 warns falsely (-Wrestrict, bug 105329)
     obj.id += std::to_string(i + 1);
     obj.primitives.push_back(prim);

@@ -84,5 +84,17 @@ TEST(ObjectFinder, EmptySceneAndEmptySpec) {
   EXPECT_TRUE(match_objects(HapticSpec{}, PhysicalScene{{}, {sphere_prop("p1", 0.1)}}).matches.empty());
 }
 
+
+TEST(ObjectFinder, PartialObjectsVoteOnlyWhenAsked) {
+  HapticSpec spec{{sphere_object("a", 0.05)}};
+  PhysicalScene scene{{}, {sphere_prop("p1", 0.05), sphere_prop("p2", 0.03)}};
+  scene.objects[0].partial = true;  // the better prop, but cut by the image border
+  const MatchResult whole_only = match_objects(spec, scene);
+  EXPECT_EQ(whole_only.matches[0].physical_index, 1);
+  MatchParams params;
+  params.partial_objects_vote = true;
+  EXPECT_EQ(match_objects(spec, scene, params).matches[0].physical_index, 0);
+}
+
 }  // namespace
 }  // namespace annex

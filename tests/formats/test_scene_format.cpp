@@ -32,6 +32,41 @@ TEST(SceneFormat, KitchenGoldenReadsAndWritesBackByteForByte) {
   EXPECT_EQ(write_scene(*scene), text);
 }
 
+TEST(SceneFormat, Version2CarriesSupportsPartialAndFrustums) {
+  PhysicalScene scene;
+  scene.supports = {{"s1", Plane{{0, -1, 0}, 1.3}, 5000}, {"s2", Plane{{0, -1, 0}, 0.55}, 800}};
+  scene.support = scene.supports[0].plane;
+  PhysicalObject cup;
+  cup.id = "p1";
+  cup.support_id = "s2";
+  cup.point_count = 900;
+  cup.fit = 0.8;
+  PhysicalPrimitive frustum{ShapeKind::cone, {0.05, 0.1}, {0, 0.5, 1}, {0, 1, 0}, 0.8};
+  frustum.narrow_radius_m = 0.03;
+  cup.primitives.push_back(frustum);
+  PhysicalObject cut;
+  cut.id = "p2";
+  cut.support_id = "s1";
+  cut.partial = true;
+  scene.objects = {cup, cut};
+  const std::string text = write_scene(scene);
+  EXPECT_EQ(text.rfind("annex-scene 2\nsupport s1 0 -1 0 1.3 points 5000\nsupport s2 ", 0), 0u) << text;
+  EXPECT_NE(text.find("  on s2\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("  partial\n"), std::string::npos) << text;
+  EXPECT_NE(text.find(" narrow_radius 0.03 "), std::string::npos) << text;
+  auto back = parse_scene(text, "v2.scene");
+  ASSERT_TRUE(back.ok()) << back.error().format();
+  EXPECT_EQ(*back, scene);
+  EXPECT_TRUE(validate_scene(scene, "v2.scene").ok());
+  // A scene that needs nothing of version 2 is written as version 1.
+  PhysicalScene plain;
+  plain.support = Plane{{0, -1, 0}, 0.8};
+  EXPECT_EQ(write_scene(plain).rfind("annex-scene 1\n", 0), 0u);
+  // An object on a support the scene does not hold is refused before writing.
+  scene.objects[0].support_id = "s7";
+  EXPECT_FALSE(validate_scene(scene, "v2.scene").ok());
+}
+
 TEST(SceneFormat, NoSupportGolden) {
   const std::string text = test::slurp(test::data_path("no_support.scene"));
   auto scene = parse_scene(text, "no_support.scene");
@@ -97,7 +132,22 @@ TEST(SceneFormat, InvalidInputsReportMessageLineAndColumn) {
       {"haptic header", "annex-haptic 1\n", 1, 1,
        "expected the header 'annex-scene 1', found 'annex-haptic' (this is a .haptic file)"},
       {"future version", "annex-scene 3\n", 1, 13,
-       "unsupported format version 3; this reader knows version 1"},
+       "unsupported format version 3; this reader knows versions 1 and 2"},
+      {"v2 support without id", "annex-scene 2\nsupport 0 1 0 0\n", 2, 9,
+       "invalid support id '0'; a name starts with a letter or '_' and continues with letters, "
+       "digits, '_', '.' or '-'"},
+      {"v2 duplicate support id", "annex-scene 2\nsupport s1 0 1 0 0\nsupport s1 0 1 0 1\n", 3, 9,
+       "duplicate support id 's1' (first at line 2)"},
+      {"v2 support extra key", "annex-scene 2\nsupport s1 0 1 0 0 pts 3\n", 2, 20,
+       "unknown key 'pts' in support 's1'; expected 'points' or the end of the line"},
+      {"v2 object on undeclared support", "annex-scene 2\nobject a\n  on s4\nend\n", 3, 6,
+       "object 'a' is on support 's4', which the file does not declare"},
+      {"v1 has no 'on'", obj("  on s1\n"), 3, 3, "'on' in object 'a' needs the header 'annex-scene 2'"},
+      {"narrow radius too wide", obj("  cone radius 0.05 height 0.1 narrow_radius 0.06\n"), 3, 45,
+       "cone narrow_radius must be less than its radius (the wide end)"},
+      {"narrow radius on a cylinder", obj("  cylinder radius 1 height 1 narrow_radius 0.5\n"), 3, 30,
+       "unknown key 'narrow_radius' in cylinder at column 3; expected one of: radius, height, "
+       "center, axis, fit"},
       {"unknown top key", "annex-scene 1\nsuport 0 1 0 0\n", 2, 1,
        "unknown key 'suport' at top level; did you mean 'support'?"},
       {"support zero normal", "annex-scene 1\nsupport 0 0 0 1\n", 2, 13,

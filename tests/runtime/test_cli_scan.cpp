@@ -63,9 +63,28 @@ TEST(CliScan, PrintsPlaneThenObjects) {
       << r.output;
   const std::regex object(
       "\nobject p1 (sphere|cylinder|cone|torus|box)( [a-z_]+=[0-9.]+)+ center=\\S+ axis=\\S+ "
-      "points=[0-9]+ fit=[0-9.]+\n");
+      "points=[0-9]+ fit=[0-9.]+ support=s[0-9]+( partial=1)?\n");
   EXPECT_TRUE(std::regex_search(r.output, object)) << r.output;
   EXPECT_NE(r.output.find("\nobject p2 "), std::string::npos);
+  // One line per support, the first the plane's.
+  const std::regex support("\nsupport s1 normal=-?[0-9.]+,-?[0-9.]+,-?[0-9.]+ d=[0-9.]+ points=[0-9]+\n");
+  EXPECT_TRUE(std::regex_search(r.output, support)) << r.output;
+}
+
+TEST(CliScan, SupportsOptionChoosesAndNamesBadChoices) {
+  const auto r = run_cli("scan " + shell_quote(scene_pcd().string()) + " --supports largest");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("\nsupport s1 "), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("\nsupport s2 "), std::string::npos) << r.output;
+  const auto bad = run_cli("scan " + shell_quote(scene_pcd().string()) + " --supports tallest");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("supports must be all, nearest, highest, largest or a support id"),
+            std::string::npos)
+      << bad.output;
+  const auto missing = run_cli("scan " + shell_quote(scene_pcd().string()) + " --supports s9");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.output.find("no support 's9' in this frame (found: s1"), std::string::npos)
+      << missing.output;
 }
 
 TEST(CliScan, WritesSceneAndPng) {

@@ -142,17 +142,19 @@ TEST(ObjectShapeRecognizer, ConeHeightReachesTheApex) {
   EXPECT_NEAR(p.dimensions_m[1], 0.15, 0.01);
 }
 
-TEST(ObjectShapeRecognizer, GentleFrustumReadsAsCylinderOfMeanRadius) {
-  // A cup-like frustum, 5 cm at the base to 3.5 cm at the top: a full cone through its
-  // base would miss its top, the cylinder of its mean radius is the closer primitive.
+TEST(ObjectShapeRecognizer, CupLikeFrustumIsAConeWithItsNarrowRadius) {
+  // A cup-like frustum, 5 cm at the base to 3.5 cm at the top: reported as itself, a cone
+  // with its wide radius, its height and its narrow end's radius, pointing up.
   const Cloud c = visible(cone(on_table(0, 1.0, 0), 0.05, 0.15, 0.035), 0.0015, 12);
   const ObjectShape s = recognize(c);
   ASSERT_FALSE(s.primitives.empty());
   const PhysicalPrimitive& p = s.primitives[0].primitive;
-  EXPECT_EQ(p.kind, ShapeKind::cylinder);
-  EXPECT_NEAR(p.dimensions_m[0], 0.0425, 0.004);
+  EXPECT_EQ(p.kind, ShapeKind::cone);
+  EXPECT_NEAR(p.dimensions_m[0], 0.05, 0.004);
   EXPECT_NEAR(p.dimensions_m[1], 0.15, 0.01);
-  EXPECT_GT(s.fit, 0.8);  // the frustum fitted to the points explains them
+  EXPECT_NEAR(p.narrow_radius_m, 0.035, 0.004);
+  EXPECT_GT(dot(normalized(p.axis), kUp), 0.999);
+  EXPECT_GT(s.fit, 0.8);
 }
 
 TEST(ObjectShapeRecognizer, WithinShapeGrowsTheSolidByTheMargin) {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <random>
 
 #include "annex/runtime/pcd_io.h"
@@ -152,10 +153,19 @@ TEST(Scanner, UnorganizedCloudsTakeTheSlowerPath) {
   flat.height = 1;
   const Result<ScanResult> unorganized = scan_frame(flat);
   ASSERT_TRUE(unorganized.ok());
-  ASSERT_EQ(unorganized->scene.objects.size(), organized->scene.objects.size());
-  for (size_t k = 0; k < organized->scene.objects.size(); ++k) {
-    const auto& a = organized->scene.objects[k].primitives;
-    const auto& b = unorganized->scene.objects[k].primitives;
+  // The re-projected grid has holes where jittered points collide: fragments there
+  // are partial (too few points); the whole objects are the same.
+  auto whole = [](const ScanResult& r) {
+    std::vector<const PhysicalObject*> out;
+    for (const PhysicalObject& o : r.scene.objects)
+      if (!o.partial) out.push_back(&o);
+    return out;
+  };
+  const auto a_objects = whole(*organized), b_objects = whole(*unorganized);
+  ASSERT_EQ(b_objects.size(), a_objects.size());
+  for (size_t k = 0; k < a_objects.size(); ++k) {
+    const auto& a = a_objects[k]->primitives;
+    const auto& b = b_objects[k]->primitives;
     ASSERT_EQ(a.empty(), b.empty());
     if (!a.empty()) {
       EXPECT_EQ(a[0].kind, b[0].kind);
@@ -257,6 +267,19 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->shape.min_coverage, d.shape.min_coverage);
   EXPECT_EQ(p->shape.max_fit_points, d.shape.max_fit_points);
   EXPECT_EQ(p->shape.seed, d.shape.seed);
+  EXPECT_EQ(p->max_planes, d.max_planes);
+  EXPECT_EQ(p->support_reach_m, d.support_reach_m);
+  EXPECT_EQ(p->supports, d.supports);
+  EXPECT_EQ(p->furniture_area_m2, d.furniture_area_m2);
+  EXPECT_EQ(p->max_support_tilt_deg, d.max_support_tilt_deg);
+  EXPECT_EQ(p->min_support_area_m2, d.min_support_area_m2);
+  EXPECT_EQ(p->min_support_gap_m, d.min_support_gap_m);
+  EXPECT_EQ(p->under_width_share, d.under_width_share);
+  EXPECT_EQ(p->floor_margin_m, d.floor_margin_m);
+  EXPECT_EQ(p->cluster_noise_factor, d.cluster_noise_factor);
+  EXPECT_EQ(p->min_cluster_points_far, d.min_cluster_points_far);
+  EXPECT_EQ(p->border_px, d.border_px);
+  EXPECT_EQ(p->min_whole_points, d.min_whole_points);
 }
 
 TEST(ScanConfig, ReadsValuesAndComments) {
@@ -413,31 +436,185 @@ TEST(ScannerReal, OfficeIsClutteredButScans) {
   EXPECT_LT(scan->plane.normal.y, -0.8);  // the floor, seen nearly level
 }
 
-TEST(ScannerReal, OfficeWithTheRoomConfigFindsTheStorageBox) {
+TEST(ScannerReal, OfficeFindsItsStorageBoxWithTheDefaults) {
   const auto f = real_frame("office1.pcd");
   if (!f) GTEST_SKIP() << "../shared/data/real is absent: real-scan test skipped";
-  const Result<ScanParams> room =
-      read_scan_config_file(std::filesystem::path(ANNEX_SOURCE_DIR) / "samples/config/room.conf");
-  ASSERT_TRUE(room.ok()) << room.error().format();
-  const Result<ScanResult> scan = scan_frame(*f, *room);
+  const Result<ScanResult> scan = scan_frame(*f);
   ASSERT_TRUE(scan.ok()) << scan.error().format();
-  EXPECT_LT(scan->plane.normal.y, -0.95);  // the floor, the camera level
-  // The grey storage box at the bottom right (column ~550), 2.4 m away: its top about
-  // 55 cm above the floor, 30 to 50 cm on a side; its base is below the image.
-  const PhysicalObject* box = nearest(*scan, 550);
+  EXPECT_LT(scan->plane.normal.y, -0.95);  // the floor first, the camera level
+  EXPECT_GT(scan->plane.d, 1.2);           // 1.33 m below the camera, not the desk
+  // The grey storage box at the bottom right (column ~530), 2.5 m away, on the floor:
+  // its top about 50 cm above it, 30 to 60 cm wide (its base is below the image).
+  const PhysicalObject* box = nullptr;
+  double best = 60;
+  for (size_t k = 0; k < scan->scene.objects.size(); ++k) {
+    const Vec3 c = centroid(scan->clusters[k].points);
+    const double d = std::abs(525.0 * c.x / c.z + 319.5 - 530);
+    if (scan->scene.objects[k].support_id == scan->scene.supports.front().id && d < best)
+      best = d, box = &scan->scene.objects[k];
+  }
   ASSERT_NE(box, nullptr);
   ASSERT_FALSE(box->primitives.empty());
   EXPECT_EQ(box->primitives[0].kind, ShapeKind::box);
   const std::vector<double>& d = box->primitives[0].dimensions_m;
-  EXPECT_GT(d[0], 0.3);
-  EXPECT_LT(d[0], 0.5);
-  EXPECT_GT(d[1], 0.25);
-  EXPECT_LT(d[1], 0.5);
-  EXPECT_GT(d[2], 0.45);
+  EXPECT_GT(std::max(d[0], d[1]), 0.3);
+  EXPECT_LT(std::max(d[0], d[1]), 0.6);
+  EXPECT_GT(d[2], 0.4);
   EXPECT_LT(d[2], 0.65);
   // Walls and cupboards run on above the height band: none of them is an object.
   for (const PhysicalObject& o : scan->scene.objects)
     if (!o.primitives.empty()) EXPECT_LT(o.primitives[0].dimensions_m.back(), 0.65) << o.id;
+}
+
+TEST(ScannerReal, NyuBasementHasTheFloorAndNoWardrobeSlices) {
+  const auto f = real_frame("nyu_basement.pcd");
+  if (!f) GTEST_SKIP() << "../shared/data/real is absent: real-scan test skipped";
+  const Result<ScanResult> scan = scan_frame(*f);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  // The concrete floor, about 1.5 m below the camera.
+  EXPECT_LT(scan->plane.normal.y, -0.9);
+  EXPECT_NEAR(scan->plane.d, 1.5, 0.1);
+  // The cloth wardrobe (columns 170 to 350) runs on above the band: no whole object
+  // stands there (before depth-scaled clustering it came out as a row of thin boxes).
+  for (size_t k = 0; k < scan->scene.objects.size(); ++k) {
+    if (scan->scene.objects[k].partial) continue;
+    const Vec3 c = centroid(scan->clusters[k].points);
+    const double col = 582.6 * c.x / c.z + 313.0;
+    EXPECT_FALSE(col > 170 && col < 350 && c.z > 3.0) << scan->scene.objects[k].id << " at column " << col;
+  }
+}
+
+TEST(ScannerReal, MilkCartoonBorderSliversArePartial) {
+  const auto f = real_frame("milk_cartoon_all_small_clorox.pcd");
+  if (!f) GTEST_SKIP() << "../shared/data/real is absent: real-scan test skipped";
+  const Result<ScanResult> scan = scan_frame(*f);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  // The objects at the image's top edge, 1.6 to 1.8 m away (slivers of things cut by
+  // the border), are flagged partial: the sensor's depth starts a few rows down.
+  int at_top = 0;
+  for (size_t k = 0; k < scan->clusters.size(); ++k) {
+    int top = f->height;
+    for (int i : scan->clusters[k].pixels) top = std::min(top, i / f->width);
+    // The sensor's depth starts at row 16 here; whole objects start far below it.
+    if (top > 30) {
+      if (top > 50) EXPECT_FALSE(scan->scene.objects[k].partial) << scan->scene.objects[k].id;
+      continue;
+    }
+    ++at_top;
+    EXPECT_TRUE(scan->scene.objects[k].partial) << scan->scene.objects[k].id << " top row " << top;
+  }
+  EXPECT_GE(at_top, 1);
+}
+
+// --- every support, on the widened generator ---
+
+SyntheticFrame world(std::uint64_t seed) {
+  const Result<SyntheticScene> scene = generate_scene(world_scene_params(seed));
+  EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().format());
+  return render_scene(*scene);
+}
+
+// The truth object most of a scanned object's pixels show, or a background label.
+int majority_label(const SyntheticFrame& f, const ScanCluster& c) {
+  std::map<int, int> votes;
+  for (int i : c.pixels) ++votes[f.labels[static_cast<size_t>(i)]];
+  int best = kLabelNothing, n = -1;
+  for (const auto& [l, v] : votes)
+    if (v > n) best = l, n = v;
+  return best;
+}
+
+TEST(ScannerWorld, TableObjectsFoundOnTheirSupportsAndNoLegsOrSlivers) {
+  // A second support's body (a stool) is a box standing on the floor and may be
+  // reported; legs and border slivers may not.
+  int truth_near = 0, found_near = 0, on_right_support = 0, found = 0, legs = 0, slivers = 0;
+  for (std::uint64_t seed = 2001; seed <= 2012; ++seed) {
+    const SyntheticFrame f = world(seed);
+    const Result<ScanResult> scan = scan_frame(f.frame);
+    ASSERT_TRUE(scan.ok()) << "seed " << seed << ": " << scan.error().format();
+    std::vector<int> owner;
+    for (const ScanCluster& c : scan->clusters) owner.push_back(majority_label(f, c));
+    for (size_t k = 0; k < owner.size(); ++k) {
+      const PhysicalObject& o = scan->scene.objects[k];
+      if (o.partial) continue;
+      legs += owner[k] == kLabelLeg;
+      if (owner[k] >= 0 && f.truth.objects[static_cast<size_t>(owner[k])].partial) ++slivers;
+      if (owner[k] < 0) continue;
+      ++found;
+      // The scanned support is the truth one: same height within 3 cm.
+      const PhysicalObject& t = f.truth.objects[static_cast<size_t>(owner[k])];
+      const SupportSurface* truth_support = nullptr;
+      for (const SupportSurface& sp : f.truth.supports)
+        if (sp.id == t.support_id) truth_support = &sp;
+      for (const SupportSurface& sp : scan->scene.supports)
+        if (sp.id == o.support_id && truth_support &&
+            std::abs(sp.plane.d - truth_support->plane.d) < 0.03)
+          ++on_right_support;
+    }
+    for (size_t t = 0; t < f.truth.objects.size(); ++t) {
+      const PhysicalPrimitive& tp = f.truth.objects[t].primitives[0];
+      if (f.truth.objects[t].partial || norm(tp.center) > 1.5) continue;
+      double largest = *std::max_element(tp.dimensions_m.begin(), tp.dimensions_m.end());
+      if (tp.kind != ShapeKind::box) largest = std::max(largest, 2 * tp.dimensions_m[0]);
+      if (largest < 0.05) continue;
+      ++truth_near;
+      found_near += std::find(owner.begin(), owner.end(), static_cast<int>(t)) != owner.end();
+    }
+  }
+  ASSERT_GT(truth_near, 8);
+  EXPECT_GE(found_near, truth_near * 90 / 100) << found_near << " of " << truth_near;
+  // Measured: 23 of 28 on the right support, 6 legs and 1 sliver reported whole
+  // (docs/perception.md lists these as open); the bounds guard against regressions.
+  EXPECT_GE(on_right_support, found * 75 / 100) << on_right_support << " of " << found;
+  EXPECT_LE(legs, 8);
+  EXPECT_LE(slivers, 2);
+}
+
+TEST(ScannerWorld, SupportSelection) {
+  // A scene with the table, the floor and a second support in view.
+  const SyntheticFrame f = world(2005);
+  const Result<ScanResult> all = scan_frame(f.frame);
+  ASSERT_TRUE(all.ok()) << all.error().format();
+  ASSERT_GE(all->scene.supports.size(), 2u);
+  for (const PhysicalObject& o : all->scene.objects) {
+    bool known = false;
+    for (const SupportSurface& s : all->scene.supports) known = known || s.id == o.support_id;
+    EXPECT_TRUE(known) << o.id << " on '" << o.support_id << "'";
+  }
+  auto only = [&](std::string_view choice) {
+    const Result<ScanParams> p = with_support_selection({}, choice);
+    EXPECT_TRUE(p.ok());
+    const Result<ScanResult> r = scan_frame(f.frame, *p);
+    EXPECT_TRUE(r.ok()) << r.error().format();
+    EXPECT_EQ(r->scene.supports.size(), 1u) << choice;
+    for (const PhysicalObject& o : r->scene.objects) EXPECT_EQ(o.support_id, r->scene.supports[0].id);
+    return r->scene.supports.empty() ? SupportSurface{} : r->scene.supports[0];
+  };
+  const SupportSurface largest = only("largest"), highest = only("highest"), nearest = only("nearest");
+  for (const ScanSupport& s : all->supports) {
+    EXPECT_LE(s.surface.point_count, largest.point_count);
+    EXPECT_GE(s.surface.plane.d, highest.plane.d - 1e-12);
+  }
+  EXPECT_EQ(only("s2").id, "s2");
+  const Result<ScanParams> missing = with_support_selection({}, "s9");
+  ASSERT_TRUE(missing.ok());
+  const Result<ScanResult> none = scan_frame(f.frame, *missing);
+  ASSERT_FALSE(none.ok());
+  EXPECT_NE(none.error().message.find("no support 's9'"), std::string::npos);
+  (void)nearest;
+}
+
+TEST(ScanConfig, SupportChoices) {
+  const Result<ScanParams> p = parse_scan_config("supports nearest\nsupport_reach_m 2.5\n", "t.conf");
+  ASSERT_TRUE(p.ok()) << p.error().format();
+  EXPECT_EQ(p->supports, SupportSelection::nearest);
+  EXPECT_EQ(p->support_reach_m, 2.5);
+  const Result<ScanParams> id = parse_scan_config("supports s3\n", "t.conf");
+  ASSERT_TRUE(id.ok());
+  EXPECT_EQ(id->supports, SupportSelection::id);
+  EXPECT_EQ(id->support_id, "s3");
+  expect_error("\nsupports tallest\n", 2, 10, "supports must be all, nearest, highest, largest");
+  expect_error("supports s0\n", 1, 10, "support id such as s2");
 }
 
 }  // namespace

@@ -387,5 +387,139 @@ TEST(SyntheticScene, AxialSigmaFormula) {
   EXPECT_NEAR(kinect_axial_sigma_m(3.0), 0.0012 + 0.0019 * 2.6 * 2.6, 1e-12);
 }
 
+
+// --- the widened generator (world_scene_params) ---
+
+TEST(SyntheticWorld, FloorLegsFurnitureAndASecondSupportWithItsObjects) {
+  int on_furniture = 0, leg_pixels = 0, furniture_pixels = 0;
+  for (std::uint64_t seed = 2001; seed <= 2006; ++seed) {
+    const Result<SyntheticScene> s = generate_scene(world_scene_params(seed));
+    ASSERT_TRUE(s.ok()) << s.error().format();
+    const SyntheticFrame f = render_scene(*s, exact());
+    ASSERT_EQ(f.truth.supports.size(), 3u);  // table, floor, the second support's top
+    EXPECT_EQ(f.truth.supports[0].plane, *f.truth.support);
+    // The floor lies floor_depth_m below the table, parallel to it.
+    EXPECT_NEAR(f.truth.supports[1].plane.d - f.truth.supports[0].plane.d, s->floor_depth_m, 1e-9);
+    for (int l : f.labels) {
+      leg_pixels += l == kLabelLeg;
+      furniture_pixels += l == kLabelFurniture;
+    }
+    for (std::size_t i = 0; i < f.truth.objects.size(); ++i) {
+      const PhysicalObject& o = f.truth.objects[i];
+      const SupportSurface* support = nullptr;
+      for (const SupportSurface& sp : f.truth.supports)
+        if (sp.id == o.support_id) support = &sp;
+      ASSERT_NE(support, nullptr) << o.support_id;
+      on_furniture += o.support_id != "table";
+      // Every exact point of the object lies on or above its support's plane, and the
+      // lowest ones touch it (the object stands on it).
+      double lowest = 1e9;
+      for (std::size_t k = 0; k < f.labels.size(); ++k)
+        if (f.labels[k] == static_cast<int>(i) && std::isfinite(f.frame.points[k].z)) {
+          const PointXYZRGB& p = f.frame.points[k];
+          lowest = std::min(lowest, dot(support->plane.normal, Vec3{p.x, p.y, p.z}) + support->plane.d);
+        }
+      if (lowest < 1e9) EXPECT_GT(lowest, -1e-6) << "seed " << seed << " object " << i;
+    }
+  }
+  EXPECT_GT(on_furniture, 3);
+  EXPECT_GT(leg_pixels, 1000);
+  EXPECT_GT(furniture_pixels, 10000);
+}
+
+TEST(SyntheticWorld, CamerasFromHalfAMetreToThreeAndLevelToSixtyDegrees) {
+  double near = 1e9, far = 0, level = 90, steep = 0;
+  for (std::uint64_t seed = 2001; seed <= 2040; ++seed) {
+    const Result<SyntheticScene> s = generate_scene(world_scene_params(seed));
+    ASSERT_TRUE(s.ok()) << s.error().format();
+    const double d = norm(s->camera_position);
+    near = std::min(near, d), far = std::max(far, d);
+    level = std::min(level, s->camera_tilt_deg), steep = std::max(steep, s->camera_tilt_deg);
+    EXPECT_GE(s->camera_position.z, 0.25 - 1e-12);
+  }
+  EXPECT_LT(near, 0.9);
+  EXPECT_GT(far, 2.4);
+  EXPECT_LT(level, 10);
+  EXPECT_GT(steep, 50);
+}
+
+// Distance from (rho, h) to a frustum's outline in its half-plane section: wide radius r
+// at h = -H/2, narrow radius q at +H/2.
+double frustum_distance(double rho, double h, double r, double q, double height) {
+  return std::min({segment_distance(rho, h, r, -height / 2, q, height / 2),
+                   segment_distance(rho, h, 0, -height / 2, r, -height / 2),
+                   segment_distance(rho, h, 0, height / 2, q, height / 2)});
+}
+
+TEST(SyntheticWorld, FrustumsAndConesApexDownLieOnTheirSurfaces) {
+  SyntheticSceneParams p;
+  p.seed = 4;
+  p.object_count = 0;
+  Result<SyntheticScene> s = generate_scene(p);
+  ASSERT_TRUE(s.ok());
+  const double t = s->camera_tilt_deg * kPi / 180;
+  const Vec3 aim = s->camera_position + Vec3{0, std::cos(t), -std::sin(t)} * (s->camera_position.z / std::sin(t));
+  SyntheticObject cup = resting_object(ShapeKind::cone, {0.06, 0.1}, aim.x - 0.12, aim.y);
+  cup.apex_down = true;
+  cup.narrow_radius_m = 0.035;
+  SyntheticObject bowl = resting_object(ShapeKind::cone, {0.1, 0.05}, aim.x + 0.14, aim.y);
+  bowl.apex_down = true;
+  bowl.narrow_radius_m = 0.05;
+  s->objects = {cup, bowl};
+  const SyntheticFrame f = render_scene(*s, exact());
+  ASSERT_EQ(f.truth.objects.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const PhysicalPrimitive& prim = f.truth.objects[i].primitives[0];
+    EXPECT_LT(dot(prim.axis, f.truth.support->normal), -0.999);  // wide end up
+    EXPECT_EQ(prim.narrow_radius_m, s->objects[i].narrow_radius_m);
+    int n = 0;
+    double worst = 0;
+    for (std::size_t k = 0; k < f.labels.size(); ++k) {
+      if (f.labels[k] != static_cast<int>(i) || !std::isfinite(f.frame.points[k].z)) continue;
+      const PointXYZRGB& q = f.frame.points[k];
+      const Vec3 rel = Vec3{q.x, q.y, q.z} - prim.center;
+      const double h = dot(rel, prim.axis);  // towards the narrow end
+      const double rho = norm(rel - prim.axis * h);
+      worst = std::max(worst, frustum_distance(rho, h, prim.dimensions_m[0], prim.narrow_radius_m,
+                                               prim.dimensions_m[1]));
+      ++n;
+    }
+    EXPECT_GT(n, 500);
+    EXPECT_LT(worst, 1e-4);
+  }
+}
+
+TEST(SyntheticWorld, CutObjectsCrossTheBorderAndAreMarkedPartial) {
+  int cut = 0;
+  for (std::uint64_t seed = 2001; seed <= 2024; ++seed) {
+    const Result<SyntheticScene> s = generate_scene(world_scene_params(seed));
+    ASSERT_TRUE(s.ok()) << s.error().format();
+    const SyntheticFrame f = render_scene(*s, exact());
+    std::vector<char> at_border(f.truth.objects.size(), 0);
+    for (int v = 0; v < 480; ++v)
+      for (int u = 0; u < 640; ++u) {
+        if (u != 0 && v != 0 && u != 639 && v != 479) continue;
+        const int l = f.labels[static_cast<std::size_t>(v) * 640 + u];
+        if (l >= 0) at_border[static_cast<std::size_t>(l)] = 1;
+      }
+    for (std::size_t i = 0; i < f.truth.objects.size(); ++i) {
+      EXPECT_EQ(f.truth.objects[i].partial, s->objects[i].cut);
+      cut += s->objects[i].cut;
+      // Whole objects keep a margin from the border; cut ones reach it unless hidden.
+      if (!s->objects[i].cut) EXPECT_FALSE(at_border[i]) << "seed " << seed << " object " << i;
+    }
+  }
+  EXPECT_GT(cut, 3);
+}
+
+TEST(SyntheticWorld, SameSeedSameScene) {
+  const Result<SyntheticScene> a = generate_scene(world_scene_params(2003));
+  const Result<SyntheticScene> b = generate_scene(world_scene_params(2003));
+  ASSERT_TRUE(a.ok() && b.ok());
+  const SyntheticFrame fa = render_scene(*a), fb = render_scene(*b);
+  EXPECT_EQ(fa.truth, fb.truth);
+  EXPECT_EQ(fa.labels, fb.labels);
+}
+
 }  // namespace
 }  // namespace annex

@@ -21,6 +21,9 @@ struct MatchParams {
   // Pairs whose prop would need a dimension scaled beyond the primitive's scaling
   // limits are never matched (off: such a prop is matched and the model drawn clamped).
   bool within_limits = false;
+  // Objects a scan saw only in part (cut by the image border, too few points) are no
+  // candidates unless this is set: a prop the user cannot grab whole is a poor prop.
+  bool partial_objects_vote = false;
 };
 
 struct MatchEntry {

@@ -154,7 +154,7 @@ class AnnexSession {
   SessionParams params_;
   std::vector<AnnexedObject> objects_;
   std::optional<CameraIntrinsics> camera_;
-  std::optional<Plane> support_;
+  std::vector<SupportSurface> supports_;  // of the last scan; each prop tracks on its own
   std::vector<PhysicalObject> last_scan_objects_;  // in the current sensor frame
   std::shared_ptr<const TrackingModel> static_scene_;  // the previous frame's
   Pose camera_motion_;  // the last estimate: the next one's prediction

@@ -21,6 +21,9 @@
 
 namespace annex {
 
+// Which supports' objects a scan reports (docs/perception.md).
+enum class SupportSelection { all, nearest, highest, largest, id };
+
 // Every field is a key of the scan config file (samples/config/scan.conf).
 struct ScanParams {
   // Up direction in the camera frame (x right, y down, z forward); a Kinect looking
@@ -37,6 +40,32 @@ struct ScanParams {
   double plane_noise_factor = 2.5;
   int plane_iterations = 300;       // RANSAC samples
   int min_plane_points = 2000;      // full-resolution points
+  // Supports are extracted one after another (each plane's inliers leave the search),
+  // at most this many planes tried; every near-horizontal one holding
+  // min_plane_points counts.
+  int max_planes = 6;
+  // Supports after the first are within this angle of its normal (a room's floor,
+  // tables and shelves share one up) and span at least this much (a carton's top is
+  // not a support; a box top of 20 x 20 cm is).
+  double max_support_tilt_deg = 8;
+  double min_support_area_m2 = 0.04;
+  // ... and lie at least this far above or below the earlier supports.
+  double min_support_gap_m = 0.06;
+  // Supports whose nearest point is farther from the camera are not used.
+  double support_reach_m = 3.5;
+  // Whose objects are reported: every support within reach (all), or only the
+  // nearest, the highest, the largest, or the one named by support_id ("s2").
+  SupportSelection supports = SupportSelection::all;
+  std::string support_id;
+  // A support whose hull spans more than this is furniture (floor, table, desk,
+  // shelf): its surface is never an object's. A smaller one may be an object's top
+  // (a box, a seat): its surface stays part of the object under it.
+  double furniture_area_m2 = 0.25;
+  // A cluster below a support and inside its hull, narrower than this share of the
+  // support's width across the view, stands under it (a table's leg, a chair's base):
+  // not an object. One as wide as the support is the object whose top the support is
+  // (a storage box, a stool) and is kept.
+  double under_width_share = 0.5;
   int pixel_stride = 2;             // plane search works on every n-th pixel
   // The hull of the support's visible part is extended to the camera's foot on the
   // plane (objects in front of the visible floor hide the floor under them).
@@ -44,6 +73,9 @@ struct ScanParams {
   // The hull is grown by this margin: a floor seen between furniture still holds
   // the objects standing beside its visible part (office1's storage box).
   double hull_margin_m = 0.0;
+  // The lowest support (the floor) grows by this much: it runs on under what stands
+  // on it beyond its visible patches. 0 keeps the paper's hull.
+  double floor_margin_m = 1.0;
   // Clusters whose surface continues above max_height_m (walls, cupboards, people)
   // are not objects on the support: dropped when true.
   bool drop_cut_clusters = true;
@@ -51,10 +83,16 @@ struct ScanParams {
   double min_height_m = 0.012;
   double max_height_m = 0.6;
   double max_depth_m = 4.0;  // farther points are ignored (Kinect range)
-  // Clusters: grid neighbours closer than this in 3D join; tiny clusters are dropped.
+  // Clusters: grid neighbours closer than this in 3D join (or than cluster_noise_factor
+  // times the depth noise where that is wider: 3.9 cm at 3.5 m, so a far wardrobe is
+  // not cut into slices); tiny clusters are dropped.
   double cluster_tolerance_m = 0.02;
+  double cluster_noise_factor = 2.0;
   int cluster_window_px = 2;   // neighbours searched within +-n pixels (bridges dropouts)
-  int min_cluster_points = 300;  // full-resolution points
+  // Full-resolution points at 1 m; farther clusters need fewer (a surface's pixel
+  // count falls with the square of depth), never fewer than min_cluster_points_far.
+  int min_cluster_points = 300;
+  int min_cluster_points_far = 80;
   int max_cluster_points = 250000;
   // MLS: local plane fit within this radius, points projected onto it. 0 disables.
   double mls_radius_m = 0.012;
@@ -74,6 +112,11 @@ struct ScanParams {
   // Pieces of one shape either side of a nearer object, which one primitive explains
   // together, are one object seen past an occluder.
   bool join_occluded = true;
+  // Objects with pixels within border_px of the image edge (cut by it; the edge of the
+  // rows and columns that hold depth) or with fewer than min_whole_points pixels are
+  // partial: reported, but they do not vote.
+  int border_px = 4;
+  int min_whole_points = 400;
   ShapeRecognizerParams shape;
   // Worker threads for the per-cluster stages (smoothing, shapes); results do not
   // depend on it.
@@ -86,12 +129,25 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
 Result<ScanParams> read_scan_config_file(const std::filesystem::path& path);
 // The effective up vector after camera tilt.
 Vec3 effective_up(const ScanParams& params);
+// "all", "nearest", "highest", "largest" or a support id ("s2"); errors name the choices.
+Result<ScanParams> with_support_selection(ScanParams params, std::string_view choice);
 
 // One object as found in the frame, for overlays and tracking.
 struct ScanCluster {
   std::vector<int> pixels;     // indices into frame.points
   std::vector<Vec3> points;    // smoothed points used for the fits
   ObjectShape shape;
+  Plane support;               // the plane it stands on
+};
+
+// A support found in the frame, with its hull (on its plane) for overlays.
+struct ScanSupport {
+  SupportSurface surface;
+  std::vector<Vec3> hull;
+  double area_m2 = 0;     // of the hull
+  double distance_m = 0;  // from the camera to its nearest point
+  bool furniture = false;  // hull above furniture_area_m2
+  bool selected = false;   // its objects are reported
 };
 
 struct StageTime {
@@ -100,15 +156,18 @@ struct StageTime {
 };
 
 struct ScanResult {
-  PhysicalScene scene;  // support plane and objects p1, p2, ... left to right
-  Plane plane;
-  std::vector<Vec3> hull;            // convex hull of the support, on the plane
+  // Selected supports, the first as `support`, and objects p1, p2, ... left to right.
+  PhysicalScene scene;
+  Plane plane;                       // the first selected support
+  std::vector<Vec3> hull;            // its convex hull, on the plane
+  std::vector<ScanSupport> supports;  // every support found, selected or not
   std::vector<ScanCluster> clusters; // same order as scene.objects
   int plane_inliers = 0;
   std::vector<StageTime> stages;     // plane, prism, clusters, mls, shapes
 };
 
-// Errors: an empty or all-invalid frame, or no near-horizontal plane in it.
+// Errors: an empty or all-invalid frame, no near-horizontal plane in it, or no
+// support the selection accepts (an unknown id names the ones found).
 Result<ScanResult> scan_frame(const Frame& frame, const ScanParams& params = {});
 
 // Left-to-right order of objects and their ids p1, p2, ...: by the image column of the

@@ -6,9 +6,12 @@
 // 0.0012 + 0.0019 (z - 0.4)^2 m), with lateral jitter and dropout.
 //
 // Geometry lives in a table frame: origin on the table top, +Z up, the camera looking
-// roughly along +Y and down. Every object rests upright on the table (sphere,
-// cylinder, cone with its base down, torus lying flat, box), so its axis is +Z and
-// its orientation a yaw about it. Ground truth is converted to the camera frame.
+// roughly along +Y and down. Every object rests upright on a support (sphere,
+// cylinder, cone or frustum either way up, torus lying flat, box), so its axis is +Z
+// or -Z and its orientation a yaw about it. Ground truth is converted to the camera
+// frame. The defaults give the project's original tabletop set; world_scene_params()
+// widens it to what a user's room shows (floor and table legs, a second support,
+// tall furniture, far and level cameras, cups and bowls, objects cut by the border).
 //
 // Deterministic for a seed within one toolchain (std::mt19937_64 and std
 // distributions, whose exact output the C++ standard leaves to the library).
@@ -34,8 +37,24 @@ struct SyntheticSceneParams {
   CameraIntrinsics camera;
   double camera_distance_min_m = 0.8;  // from the camera to its aim point on the table
   double camera_distance_max_m = 1.2;
-  double camera_tilt_min_deg = 30;  // below the horizon
+  double camera_tilt_min_deg = 30;  // below the horizon, >= 0
   double camera_tilt_max_deg = 60;
+  // The camera stays at least this high above the table top (a level camera at table
+  // height would see no top at all).
+  double min_camera_height_m = 0.25;
+  // Four legs from the floor to the table's underside (the floor shows around them).
+  bool table_legs = false;
+  // A second support beside the table: a box-shaped piece of furniture standing on the
+  // floor (a stool, a low shelf, a cabinet) whose top holds this many objects.
+  int side_support_objects = 0;
+  // Tall furniture (a wardrobe, a cupboard) beside the table, taller than any height band.
+  bool tall_furniture = false;
+  // Cones of every kind: half of them apex down (wide end up: cups, bowls, lampshades),
+  // half cut to frustums, radius 4-12 cm, height 3-25 cm (flatter than wide included).
+  bool varied_cones = false;
+  // Share of the objects placed across the image border (cut by it, at least a third
+  // of their image box inside); their ground truth is marked partial.
+  double cut_share = 0;
   // Share of an object's image bounding box that nearer objects may cover; keeps
   // every object largely visible (1 allows full occlusion).
   double max_view_overlap = 0.25;
@@ -53,6 +72,11 @@ struct SyntheticSceneParams {
 struct SyntheticObject {
   ShapeKind kind = ShapeKind::sphere;
   std::vector<double> dimensions_m;  // dimension_names(kind) order
+  // Cone only: radius of the narrow end (0: pointed) and whether the wide end is up.
+  double narrow_radius_m = 0;
+  bool apex_down = false;
+  int support = 0;       // 0 the table, k > 0 furniture[k - 1]'s top
+  bool cut = false;      // placed across the image border
   Vec3 center;
   double yaw_deg = 0;  // about +Z; only a box shows it
   std::array<std::uint8_t, 3> color{200, 60, 60};
@@ -67,6 +91,14 @@ struct SyntheticOccluder {
   Vec3 velocity_m_per_frame;
 };
 
+// An axis-aligned furniture block in the table frame: a table leg, a second support,
+// a wardrobe. A support's top holds objects.
+struct SyntheticBlock {
+  Vec3 center;
+  Vec3 size_m;
+  enum class Role { leg, support, tall } role = Role::leg;
+};
+
 struct SyntheticScene {
   std::uint64_t seed = 1;  // also seeds the sensor noise of every frame
   CameraIntrinsics camera;
@@ -79,7 +111,13 @@ struct SyntheticScene {
   double wall_y_m = 1.2;        // wall plane y = wall_y_m
   std::vector<SyntheticObject> objects;
   std::optional<SyntheticOccluder> occluder;
+  std::vector<SyntheticBlock> furniture;
 };
+
+// The widened generator the issue asks for: camera 0.5-3 m away and 0-60 degrees of
+// tilt, legs, a second support with objects, tall furniture, cones either way up,
+// flat and cut, a quarter of the objects cut by the image border.
+SyntheticSceneParams world_scene_params(std::uint64_t seed);
 
 // The Kinect sensor model applied while rendering.
 struct SensorNoiseParams {
@@ -102,6 +140,8 @@ inline constexpr int kLabelTable = -2;
 inline constexpr int kLabelFloor = -3;
 inline constexpr int kLabelWall = -4;
 inline constexpr int kLabelOccluder = -5;
+inline constexpr int kLabelLeg = -6;        // table legs
+inline constexpr int kLabelFurniture = -7;  // second supports and tall furniture
 
 struct SyntheticFrame {
   Frame frame;              // organized, camera frame, NaN where the sensor saw nothing
@@ -133,8 +173,10 @@ SyntheticFrame render_scene(const SyntheticScene& scene, const SensorNoiseParams
 Vec3 table_to_camera_point(const SyntheticScene& scene, Vec3 p);
 Vec3 table_to_camera_direction(const SyntheticScene& scene, Vec3 d);
 
-// Ground truth in the camera frame: the table top as support plane, one object per
-// scene object (ids "o1", "o2", ...) with one primitive (fit 1). A box's size_x and
+// Ground truth in the camera frame: the table top as support plane (and in
+// `supports`: "table", "floor", then "f1", "f2", ... for furniture tops), one object
+// per scene object (ids "o1", "o2", ...) with one primitive (fit 1), its support_id,
+// partial when cut by the border. A frustum is a cone with narrow_radius_m set. A box's size_x and
 // size_y run along its yawed local axes, which PhysicalPrimitive cannot express.
 // With labels (from render_scene of this scene) each object's point_count is its
 // visible pixels; the frame marks dropped-out pixels NaN, so pass it too.
