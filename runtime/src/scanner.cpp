@@ -11,6 +11,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -111,8 +112,18 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
   // surfaces (a wall seen obliquely) over the support.
   const double band = params.plane_distance_m;
   std::uniform_int_distribution<size_t> pick(0, strided.size() - 1);
-  std::vector<Vec3> probe;
-  for (int k = 0; k < 2000; ++k) probe.push_back(to_vec(f.points[strided[pick(rng)]]));
+  // The probe is stored coordinate by coordinate so the count per hypothesis runs as
+  // one vectorised loop (the same sums in the same order as dot()).
+  constexpr int probe_size = 2000;
+  std::array<std::vector<double>, 3> probe;
+  for (auto& c : probe) c.resize(probe_size);
+  for (int k = 0; k < probe_size; ++k) {
+    const Vec3 p = to_vec(f.points[strided[pick(rng)]]);
+    probe[0][k] = p.x, probe[1][k] = p.y, probe[2][k] = p.z;
+  }
+  const double* px = probe[0].data();
+  const double* py = probe[1].data();
+  const double* pz = probe[2].data();
   const double cos_max = std::cos(max_angle_deg * 3.14159265358979 / 180.0);
   PlaneFit hyp_best;
   int hyp_count = -1;
@@ -149,7 +160,8 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
     const double d = -dot(n, a);
     if (d <= 0) continue;  // the camera must be above the support
     int count = 0;
-    for (const Vec3& p : probe) count += std::abs(dot(n, p) + d) < band;
+    for (int k = 0; k < probe_size; ++k)
+      count += std::abs(n.x * px[k] + n.y * py[k] + n.z * pz[k] + d) < band;
     if (count > hyp_count) {
       hyp_count = count;
       hyp_best = {n, d, true};
@@ -243,19 +255,14 @@ struct PlaneRegions {
   bool touches_bottom = false;    // a kept region reaches the image's bottom rows
 };
 
-std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& strided,
-                                        const std::vector<char>& free, const PlaneFit& plane,
-                                        const ScanParams& params, int stride, int min_region,
-                                        bool split) {
+// `inliers`: the strided pixels still free within the plane's depth-scaled band.
+std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& inliers,
+                                        int stride, int min_region, bool split) {
   const int gw = (f.width + stride - 1) / stride, gh = (f.height + stride - 1) / stride;
   std::vector<int> label(static_cast<size_t>(gw) * gh, -2);  // -2 not inlier, -1 unvisited
-  for (int i : strided) {
-    if (!free[i]) continue;
-    const Vec3 p = to_vec(f.points[i]);
-    if (std::abs(dot(plane.n, p) + plane.d) < plane_band(params, p.z)) {
-      const int x = (i % f.width) / stride, y = (i / f.width) / stride;
-      label[static_cast<size_t>(y) * gw + x] = -1;
-    }
+  for (int i : inliers) {
+    const int x = (i % f.width) / stride, y = (i / f.width) / stride;
+    label[static_cast<size_t>(y) * gw + x] = -1;
   }
   std::vector<int> sizes;
   std::vector<int> queue;
@@ -643,19 +650,25 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   const int min_region = std::max(1, params.min_plane_points / (4 * stride * stride));
   const double cos_tilt = std::cos(params.max_support_tilt_deg * 3.14159265358979 / 180.0);
   std::vector<std::pair<PlaneFit, std::vector<PlaneRegions>>> planes;
+  std::vector<int> inliers;
   for (int attempt = 0; attempt < params.max_planes && pool.size() >= 50; ++attempt) {
+    // A plane holds at most the whole pool: when that is below min_plane_points no
+    // search can give one (the search would end the loop the same way).
+    if (static_cast<long long>(pool.size()) * stride * stride < params.min_plane_points) break;
     const PlaneSearch ps =
         planes.empty() ? find_plane(f, params, up, params.max_plane_angle_deg, pool, free, false, rng)
                        : find_plane(f, params, planes.front().first.n, params.max_plane_angle_deg,
                                     pool, free, true, rng);
     if (!ps.plane.ok || ps.inliers * stride * stride < params.min_plane_points) break;
-    std::vector<PlaneRegions> regions =
-        plane_regions(f, pool, free, ps.plane, params, stride, min_region, true);
-    // Its inliers leave the search whether it counts or not (an object's top).
+    // One pass finds the inliers for the regions and for leaving the pool.
+    inliers.clear();
     for (int i : pool) {
       const Vec3 p = to_vec(f.points[i]);
-      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < plane_band(params, p.z)) free[i] = 0;
+      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < plane_band(params, p.z)) inliers.push_back(i);
     }
+    std::vector<PlaneRegions> regions = plane_regions(f, inliers, stride, min_region, true);
+    // Its inliers leave the search whether it counts or not (an object's top).
+    for (int i : inliers) free[i] = 0;
     std::erase_if(pool, [&](int i) { return !free[i]; });
     int total = 0;
     for (const PlaneRegions& r : regions) total += static_cast<int>(r.members.size()) * stride * stride;
