@@ -848,11 +848,13 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
       const double h = dot(fd.plane.n, p) + fd.plane.d;
       const double band = plane_band(params, p.z);
       if (h > params.max_height_m || h < -band) continue;
-      if (!fd.hull.contains(p)) continue;
+      // On the surface itself only a furniture support's hull matters (most strided
+      // pixels lie there: the hull test is skipped for the others).
       if (h < std::max(params.min_height_m, band)) {
-        surface = surface || result.supports[k].furniture;
+        surface = surface || (result.supports[k].furniture && fd.hull.contains(p));
         continue;
       }
+      if (!fd.hull.contains(p)) continue;
       if (h < owner_h) owner_h = h, owner = static_cast<int>(k);
     }
     if (surface || owner < 0) continue;
