@@ -266,7 +266,9 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
   }
   std::vector<int> sizes;
   std::vector<int> queue;
-  for (size_t start = 0; start < label.size(); ++start) {
+  // Inliers come in raster order, so regions are numbered as a scan of the grid would.
+  for (int i : inliers) {
+    const size_t start = static_cast<size_t>((i / f.width) / stride) * gw + (i % f.width) / stride;
     if (label[start] != -1) continue;
     const int next = static_cast<int>(sizes.size());
     queue.assign(1, static_cast<int>(start));
@@ -297,25 +299,34 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
       if (split || out.empty()) out.emplace_back();
       slot[k] = static_cast<int>(out.size()) - 1;
     }
-  std::vector<int> first(out.size()), last(out.size());
-  for (int y = 0; y < gh; ++y) {
-    std::fill(first.begin(), first.end(), -1);
-    for (int x = 0; x < gw; ++x) {
-      const int l = label[static_cast<size_t>(y) * gw + x];
-      if (l < 0 || slot[l] < 0) continue;
-      const int o = slot[l];
-      out[o].members.push_back(y * stride * f.width + x * stride);
-      if (first[o] < 0) first[o] = x;
-      last[o] = x;
-      if (y >= gh - 2) out[o].touches_bottom = true;
-    }
+  // Only inlier cells carry a label: the grid rows are walked through the raster-ordered
+  // inliers, each row closed when the next inlier lies on a later one.
+  std::vector<int> first(out.size(), -1), last(out.size());
+  auto close_row = [&](int y) {
     for (size_t o = 0; o < out.size(); ++o) {
       if (first[o] < 0) continue;
       for (int x : {first[o], last[o]})
         out[o].hull_points.push_back(
             to_vec(f.points[static_cast<size_t>(y) * stride * f.width + x * stride]));
+      first[o] = -1;
     }
+  };
+  int row = -1;
+  for (int i : inliers) {
+    const int x = (i % f.width) / stride, y = (i / f.width) / stride;
+    if (y != row) {
+      if (row >= 0) close_row(row);
+      row = y;
+    }
+    const int l = label[static_cast<size_t>(y) * gw + x];
+    if (slot[l] < 0) continue;
+    const int o = slot[l];
+    out[o].members.push_back(y * stride * f.width + x * stride);
+    if (first[o] < 0) first[o] = x;
+    last[o] = x;
+    if (y >= gh - 2) out[o].touches_bottom = true;
   }
+  if (row >= 0) close_row(row);
   return out;
 }
 
