@@ -100,10 +100,11 @@ struct PlaneSearch {
 };
 
 // Seeded RANSAC over the strided pixels still in the pool (`free` marks them), then
-// least squares on the winner's inliers.
+// least squares on the winner's inliers. `pts` holds the pool pixels' points: the passes
+// over the pool read a compact array, not every other pixel of the frame.
 PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double max_angle_deg,
-                       const std::vector<int>& strided, const std::vector<char>& free,
-                       bool use_free, std::mt19937_64& rng) {
+                       const std::vector<int>& strided, const std::vector<Vec3>& pts,
+                       const std::vector<char>& free, bool use_free, std::mt19937_64& rng) {
   PlaneSearch best;
   if (strided.size() < 50) return best;
   // Inliers are counted on a fixed subsample per hypothesis; the winner is refined
@@ -118,7 +119,7 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
   std::array<std::vector<double>, 3> probe;
   for (auto& c : probe) c.resize(probe_size);
   for (int k = 0; k < probe_size; ++k) {
-    const Vec3 p = to_vec(f.points[strided[pick(rng)]]);
+    const Vec3 p = pts[pick(rng)];
     probe[0][k] = p.x, probe[1][k] = p.y, probe[2][k] = p.z;
   }
   const double* px = probe[0].data();
@@ -174,7 +175,7 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
     std::vector<Vec3> in;
     in.reserve(strided.size() / 3 + 1);
     for (size_t k = 0; k < strided.size(); k += 3) {
-      const Vec3 p = to_vec(f.points[strided[k]]);
+      const Vec3 p = pts[k];
       if (std::abs(dot(plane.n, p) + plane.d) < band) in.push_back(p);
     }
     PlaneFit refit = fit_plane(in);
@@ -186,8 +187,7 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
     if (dot(refit.n, up) < cos_max) break;
     plane = refit;
   }
-  for (int i : strided)
-    best.inliers += std::abs(dot(plane.n, to_vec(f.points[i])) + plane.d) < band;
+  for (const Vec3& p : pts) best.inliers += std::abs(dot(plane.n, p) + plane.d) < band;
   best.plane = plane;
   return best;
 }
@@ -658,6 +658,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   std::vector<char> free(f.points.size(), 0);
   for (int i : strided) free[i] = 1;
   std::vector<int> pool = strided;
+  std::vector<Vec3> pool_pts;
+  pool_pts.reserve(pool.size());
+  for (int i : pool) pool_pts.push_back(to_vec(f.points[i]));
   const int min_region = std::max(1, params.min_plane_points / (4 * stride * stride));
   const double cos_tilt = std::cos(params.max_support_tilt_deg * 3.14159265358979 / 180.0);
   std::vector<std::pair<PlaneFit, std::vector<PlaneRegions>>> planes;
@@ -667,20 +670,26 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     // search can give one (the search would end the loop the same way).
     if (static_cast<long long>(pool.size()) * stride * stride < params.min_plane_points) break;
     const PlaneSearch ps =
-        planes.empty() ? find_plane(f, params, up, params.max_plane_angle_deg, pool, free, false, rng)
+        planes.empty() ? find_plane(f, params, up, params.max_plane_angle_deg, pool, pool_pts, free, false,
+                                  rng)
                        : find_plane(f, params, planes.front().first.n, params.max_plane_angle_deg,
-                                    pool, free, true, rng);
+                                    pool, pool_pts, free, true, rng);
     if (!ps.plane.ok || ps.inliers * stride * stride < params.min_plane_points) break;
     // One pass finds the inliers for the regions and for leaving the pool.
     inliers.clear();
-    for (int i : pool) {
-      const Vec3 p = to_vec(f.points[i]);
-      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < plane_band(params, p.z)) inliers.push_back(i);
+    for (size_t k = 0; k < pool.size(); ++k) {
+      const Vec3& p = pool_pts[k];
+      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < plane_band(params, p.z))
+        inliers.push_back(pool[k]);
     }
     std::vector<PlaneRegions> regions = plane_regions(f, inliers, stride, min_region, true);
     // Its inliers leave the search whether it counts or not (an object's top).
     for (int i : inliers) free[i] = 0;
-    std::erase_if(pool, [&](int i) { return !free[i]; });
+    size_t kept = 0;
+    for (size_t k = 0; k < pool.size(); ++k)
+      if (free[pool[k]]) pool[kept] = pool[k], pool_pts[kept++] = pool_pts[k];
+    pool.resize(kept);
+    pool_pts.resize(kept);
     int total = 0;
     for (const PlaneRegions& r : regions) total += static_cast<int>(r.members.size()) * stride * stride;
     if (total < params.min_plane_points) continue;
