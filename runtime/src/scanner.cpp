@@ -15,6 +15,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -105,10 +106,11 @@ struct PlaneSearch {
 };
 
 // Seeded RANSAC over the strided pixels still in the pool (`free` marks them), then
-// least squares on the winner's inliers.
+// least squares on the winner's inliers. `pts` holds the pool pixels' points: the passes
+// over the pool read a compact array, not every other pixel of the frame.
 PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double max_angle_deg,
-                       const std::vector<int>& strided, const std::vector<char>& free,
-                       bool use_free, std::mt19937_64& rng) {
+                       const std::vector<int>& strided, const std::vector<Vec3>& pts,
+                       const std::vector<char>& free, bool use_free, std::mt19937_64& rng) {
   PlaneSearch best;
   if (strided.size() < 50) return best;
   // Inliers are counted on a fixed subsample per hypothesis; the winner is refined
@@ -117,8 +119,18 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
   // surfaces (a wall seen obliquely) over the support.
   const double band = params.plane_distance_m;
   std::uniform_int_distribution<size_t> pick(0, strided.size() - 1);
-  std::vector<Vec3> probe;
-  for (int k = 0; k < 2000; ++k) probe.push_back(to_vec(f.points[strided[pick(rng)]]));
+  // The probe is stored coordinate by coordinate so the count per hypothesis runs as
+  // one vectorised loop (the same sums in the same order as dot()).
+  constexpr int probe_size = 2000;
+  std::array<std::vector<double>, 3> probe;
+  for (auto& c : probe) c.resize(probe_size);
+  for (int k = 0; k < probe_size; ++k) {
+    const Vec3 p = pts[pick(rng)];
+    probe[0][k] = p.x, probe[1][k] = p.y, probe[2][k] = p.z;
+  }
+  const double* px = probe[0].data();
+  const double* py = probe[1].data();
+  const double* pz = probe[2].data();
   const double cos_max = std::cos(max_angle_deg * 3.14159265358979 / 180.0);
   PlaneFit hyp_best;
   int hyp_count = -1;
@@ -155,7 +167,8 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
     const double d = -dot(n, a);
     if (d <= 0) continue;  // the camera must be above the support
     int count = 0;
-    for (const Vec3& p : probe) count += std::abs(dot(n, p) + d) < band;
+    for (int k = 0; k < probe_size; ++k)
+      count += std::abs(n.x * px[k] + n.y * py[k] + n.z * pz[k] + d) < band;
     if (count > hyp_count) {
       hyp_count = count;
       hyp_best = {n, d, true};
@@ -168,7 +181,7 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
     std::vector<Vec3> in;
     in.reserve(strided.size() / 3 + 1);
     for (size_t k = 0; k < strided.size(); k += 3) {
-      const Vec3 p = to_vec(f.points[strided[k]]);
+      const Vec3 p = pts[k];
       if (std::abs(dot(plane.n, p) + plane.d) < band) in.push_back(p);
     }
     PlaneFit refit = fit_plane(in);
@@ -180,8 +193,7 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
     if (dot(refit.n, up) < cos_max) break;
     plane = refit;
   }
-  for (int i : strided)
-    best.inliers += std::abs(dot(plane.n, to_vec(f.points[i])) + plane.d) < band;
+  for (const Vec3& p : pts) best.inliers += std::abs(dot(plane.n, p) + plane.d) < band;
   best.plane = plane;
   return best;
 }
@@ -249,23 +261,20 @@ struct PlaneRegions {
   bool touches_bottom = false;    // a kept region reaches the image's bottom rows
 };
 
-std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& strided,
-                                        const std::vector<char>& free, const PlaneFit& plane,
-                                        const ScanParams& params, int stride, int min_region,
-                                        bool split) {
+// `inliers`: the strided pixels still free within the plane's depth-scaled band.
+std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& inliers,
+                                        int stride, int min_region, bool split) {
   const int gw = (f.width + stride - 1) / stride, gh = (f.height + stride - 1) / stride;
   std::vector<int> label(static_cast<size_t>(gw) * gh, -2);  // -2 not inlier, -1 unvisited
-  for (int i : strided) {
-    if (!free[i]) continue;
-    const Vec3 p = to_vec(f.points[i]);
-    if (std::abs(dot(plane.n, p) + plane.d) < plane_band(params, p.z)) {
-      const int x = (i % f.width) / stride, y = (i / f.width) / stride;
-      label[static_cast<size_t>(y) * gw + x] = -1;
-    }
+  for (int i : inliers) {
+    const int x = (i % f.width) / stride, y = (i / f.width) / stride;
+    label[static_cast<size_t>(y) * gw + x] = -1;
   }
   std::vector<int> sizes;
   std::vector<int> queue;
-  for (size_t start = 0; start < label.size(); ++start) {
+  // Inliers come in raster order, so regions are numbered as a scan of the grid would.
+  for (int i : inliers) {
+    const size_t start = static_cast<size_t>((i / f.width) / stride) * gw + (i % f.width) / stride;
     if (label[start] != -1) continue;
     const int next = static_cast<int>(sizes.size());
     queue.assign(1, static_cast<int>(start));
@@ -296,25 +305,34 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
       if (split || out.empty()) out.emplace_back();
       slot[k] = static_cast<int>(out.size()) - 1;
     }
-  std::vector<int> first(out.size()), last(out.size());
-  for (int y = 0; y < gh; ++y) {
-    std::fill(first.begin(), first.end(), -1);
-    for (int x = 0; x < gw; ++x) {
-      const int l = label[static_cast<size_t>(y) * gw + x];
-      if (l < 0 || slot[l] < 0) continue;
-      const int o = slot[l];
-      out[o].members.push_back(y * stride * f.width + x * stride);
-      if (first[o] < 0) first[o] = x;
-      last[o] = x;
-      if (y >= gh - 2) out[o].touches_bottom = true;
-    }
+  // Only inlier cells carry a label: the grid rows are walked through the raster-ordered
+  // inliers, each row closed when the next inlier lies on a later one.
+  std::vector<int> first(out.size(), -1), last(out.size());
+  auto close_row = [&](int y) {
     for (size_t o = 0; o < out.size(); ++o) {
       if (first[o] < 0) continue;
       for (int x : {first[o], last[o]})
         out[o].hull_points.push_back(
             to_vec(f.points[static_cast<size_t>(y) * stride * f.width + x * stride]));
+      first[o] = -1;
     }
+  };
+  int row = -1;
+  for (int i : inliers) {
+    const int x = (i % f.width) / stride, y = (i / f.width) / stride;
+    if (y != row) {
+      if (row >= 0) close_row(row);
+      row = y;
+    }
+    const int l = label[static_cast<size_t>(y) * gw + x];
+    if (slot[l] < 0) continue;
+    const int o = slot[l];
+    out[o].members.push_back(y * stride * f.width + x * stride);
+    if (first[o] < 0) first[o] = x;
+    last[o] = x;
+    if (y >= gh - 2) out[o].touches_bottom = true;
   }
+  if (row >= 0) close_row(row);
   return out;
 }
 
@@ -678,23 +696,38 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   std::vector<char> free(f.points.size(), 0);
   for (int i : strided) free[i] = 1;
   std::vector<int> pool = strided;
+  std::vector<Vec3> pool_pts;
+  pool_pts.reserve(pool.size());
+  for (int i : pool) pool_pts.push_back(to_vec(f.points[i]));
   const int min_region = std::max(1, params.min_plane_points / (4 * stride * stride));
   const double cos_tilt = std::cos(params.max_support_tilt_deg * 3.14159265358979 / 180.0);
   std::vector<std::pair<PlaneFit, std::vector<PlaneRegions>>> planes;
+  std::vector<int> inliers;
   for (int attempt = 0; attempt < params.max_planes && pool.size() >= 50; ++attempt) {
+    // A plane holds at most the whole pool: when that is below min_plane_points no
+    // search can give one (the search would end the loop the same way).
+    if (static_cast<long long>(pool.size()) * stride * stride < params.min_plane_points) break;
     const PlaneSearch ps =
-        planes.empty() ? find_plane(f, params, up, params.max_plane_angle_deg, pool, free, false, rng)
+        planes.empty() ? find_plane(f, params, up, params.max_plane_angle_deg, pool, pool_pts, free, false,
+                                  rng)
                        : find_plane(f, params, planes.front().first.n, params.max_plane_angle_deg,
-                                    pool, free, true, rng);
+                                    pool, pool_pts, free, true, rng);
     if (!ps.plane.ok || ps.inliers * stride * stride < params.min_plane_points) break;
-    std::vector<PlaneRegions> regions =
-        plane_regions(f, pool, free, ps.plane, params, stride, min_region, true);
-    // Its inliers leave the search whether it counts or not (an object's top).
-    for (int i : pool) {
-      const Vec3 p = to_vec(f.points[i]);
-      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < plane_band(params, p.z)) free[i] = 0;
+    // One pass finds the inliers for the regions and for leaving the pool.
+    inliers.clear();
+    for (size_t k = 0; k < pool.size(); ++k) {
+      const Vec3& p = pool_pts[k];
+      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < plane_band(params, p.z))
+        inliers.push_back(pool[k]);
     }
-    std::erase_if(pool, [&](int i) { return !free[i]; });
+    std::vector<PlaneRegions> regions = plane_regions(f, inliers, stride, min_region, true);
+    // Its inliers leave the search whether it counts or not (an object's top).
+    for (int i : inliers) free[i] = 0;
+    size_t kept = 0;
+    for (size_t k = 0; k < pool.size(); ++k)
+      if (free[pool[k]]) pool[kept] = pool[k], pool_pts[kept++] = pool_pts[k];
+    pool.resize(kept);
+    pool_pts.resize(kept);
     int total = 0;
     for (const PlaneRegions& r : regions) total += static_cast<int>(r.members.size()) * stride * stride;
     if (total < params.min_plane_points) continue;
@@ -873,11 +906,13 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
       const double h = dot(fd.plane.n, p) + fd.plane.d;
       const double band = plane_band(params, p.z);
       if (h > params.max_height_m || h < -band) continue;
-      if (!fd.hull.contains(p)) continue;
+      // On the surface itself only a furniture support's hull matters (most strided
+      // pixels lie there: the hull test is skipped for the others).
       if (h < std::max(params.min_height_m, band)) {
-        surface = surface || result.supports[k].furniture;
+        surface = surface || (result.supports[k].furniture && fd.hull.contains(p));
         continue;
       }
+      if (!fd.hull.contains(p)) continue;
       if (h < owner_h) owner_h = h, owner = static_cast<int>(k);
     }
     if (surface || owner < 0) continue;
