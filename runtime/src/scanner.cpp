@@ -970,9 +970,13 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
       under = hi - lo < params.under_width_share * (shi - slo);
     }
     if (under) continue;
-    // Touching objects apart at the creases and depth steps between them.
+    // Touching objects apart at the creases and depth steps between them. The regions
+    // grow with the tolerance the clustering used at the cluster's farthest point (it
+    // widens with depth noise), so a far cluster is not cut where it merely is noisy.
+    double z_far = 0;
+    for (int i : grid) z_far = std::max(z_far, static_cast<double>(f.points[i].z));
     for (const std::vector<int>& part :
-         split_cluster(f, grid, stride, params.cluster_tolerance_m, params.segment)) {
+         split_cluster(f, grid, stride, cluster_tolerance(params, z_far), params.segment)) {
       std::vector<int> full = expand_cluster(f, part, stride, plane, params);
       if (static_cast<int>(full.size()) < min_points ||
           static_cast<int>(full.size()) > params.max_cluster_points)

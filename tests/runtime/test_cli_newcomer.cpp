@@ -156,13 +156,13 @@ TEST(CliRunLimits, AClampedMatchIsReportedInEveryOutput) {
                            shell_quote(source_path("samples/recordings/tabletop")) + " --out " +
                            shell_quote(out.string()) + " --no-overlays");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("frame 0 match mug p2 9."), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("frame 0 match mug p3 9."), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(" clamped\n"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("note: mug on p2 needs major_radius x2.2"), std::string::npos)
+  EXPECT_NE(r.output.find("note: mug on p3 needs major_radius x2.2"), std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("(limits 0.50..1.50), minor_radius x3."), std::string::npos)
       << r.output;
-  EXPECT_NE(r.output.find("annexed mug p2 state=tracking clamped"), std::string::npos)
+  EXPECT_NE(r.output.find("annexed mug p3 state=tracking clamped"), std::string::npos)
       << r.output;
   // The earlier run's overlay is gone, and said so; other files stay.
   EXPECT_NE(r.output.find("removed 1 overlay PNG of an earlier run"), std::string::npos)
@@ -189,7 +189,7 @@ TEST(CliRunLimits, WithinLimitsLeavesTheMugVirtualAndSaysWhy) {
                            " --frames 1 --within-limits");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("match mug"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("p2 needs major_radius scaled x2.2"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("p3 needs major_radius scaled x2.2"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("outside its limits 0.50..1.50"), std::string::npos) << r.output;
   // Neither --out nor --window: a warning says nothing is saved or shown.
   EXPECT_NE(r.output.find("warning: no --out DIR and no --window"), std::string::npos)

@@ -298,7 +298,7 @@ TEST(RunCommand, AnnexesTheBundledRecording) {
   // The roll of tape needs the mug's handle scaled x2.3 and votes 9: under the mug's
   // min_vote 20, so the mug stays virtual, and run says why.
   EXPECT_EQ(run.output.find("annexed mug"), std::string::npos) << run.output;
-  EXPECT_NE(run.output.find(", went to champagne_bottle; p2 votes "), std::string::npos)
+  EXPECT_NE(run.output.find(", went to champagne_bottle; p3 votes "), std::string::npos)
       << run.output;
   EXPECT_NE(run.output.find("under mug's min_vote 20"), std::string::npos) << run.output;
   std::ifstream poses(out / "poses.txt");

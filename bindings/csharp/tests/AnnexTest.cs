@@ -105,8 +105,8 @@ static class AnnexTest
                     var matches = scanner.Match(study, frame).Where(m => m.Physical != null)
                                          .ToDictionary(m => m.Virtual, m => m.Physical);
                     var shapeOf = objects.ToDictionary(o => o.Id, o => o.Shape);
-                    Check(matches.Count == 3 && shapeOf[matches["champagne_bottle"]] == "cylinder" &&
-                          shapeOf[matches["lamp"]] == "sphere" && shapeOf[matches["mug"]] == "torus",
+                    Check(matches.Count == 2 && shapeOf[matches["champagne_bottle"]] == "cylinder" &&
+                          shapeOf[matches["lamp"]] == "sphere" && !matches.ContainsKey("mug"),
                           "matches: " + string.Join(", ", matches.Select(kv => kv.Key + "->" + kv.Value)));
                 }
             }
@@ -142,7 +142,7 @@ static class AnnexTest
         // A background session over the bundled recording, as a render loop drives it.
         string[] files = Directory.GetFiles(Path.Combine(source, "samples/recordings/tabletop"), "frame_*.pcd")
                                   .OrderBy(f => f).ToArray();
-        Check(files.Length == 12, "12 recorded frames");
+        Check(files.Length == 4, "4 recorded frames");
         var annexed = new Dictionary<string, string>();
         int firstTracked = -1;
         using (Spec study = Spec.Load(Path.Combine(source, "samples/specs/study.haptic")))
@@ -173,8 +173,8 @@ static class AnnexTest
             }
             List<AnnexedObject> last = session.Objects();
             Check(firstTracked >= 1, "annexed from push " + firstTracked + " (a scan applies a push later)");
-            Check(last.Count == 3 && annexed.Count == 3 &&
-                  new[] { "champagne_bottle", "lamp", "mug" }.All(n => annexed.ContainsKey(n)),
+            Check(last.Count == 2 && annexed.Count == 2 &&
+                  new[] { "champagne_bottle", "lamp" }.All(n => annexed.ContainsKey(n)),
                   "session annexed: " + string.Join(", ", annexed.Select(kv => kv.Key + "->" + kv.Value)));
             Check(last.All(o => annexed[o.Virtual] == o.Physical), "props kept their ids");
         }
