@@ -70,6 +70,7 @@ void join_occluded_pieces(const Frame& f, std::vector<ScanCluster>& clusters,
       if (!covered || !occluder) continue;
       // One primitive of the same kind must explain both pieces together.
       ScanCluster joint;
+      joint.support = A.support;  // both pieces stand on one support
       joint.pixels = A.pixels;
       joint.pixels.insert(joint.pixels.end(), B.pixels.begin(), B.pixels.end());
       std::sort(joint.pixels.begin(), joint.pixels.end());

@@ -94,7 +94,8 @@ static class AnnexTest
             using (Frame frame = Frame.LoadPcd(Path.Combine(source, "samples/recordings/tabletop/frame_0000.pcd")))
             {
                 List<PhysicalObject> objects = scanner.Scan(frame);
-                var shapes = objects.Select(o => o.Shape).OrderBy(s => s).ToArray();
+                // A partial object cut by the image border is reported too, as unknown.
+                var shapes = objects.Select(o => o.Shape).Where(s => s != "unknown").OrderBy(s => s).ToArray();
                 Check(shapes.SequenceEqual(new[] { "cylinder", "sphere", "torus" }),
                       "recorded frame: " + string.Join(", ", shapes));
                 PhysicalObject sphere = objects.FirstOrDefault(o => o.Shape == "sphere");
