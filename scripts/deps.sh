@@ -10,11 +10,10 @@ ANNEX_PACKAGES=(
   libassimp-dev libglfw3-dev libglm-dev libimgui-dev libgl-dev libegl-dev libstb-dev zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   liblo-dev liblo-tools                         # the OSC stream; oscdump/oscsend in its tests
-  mono-mcs mono-runtime                         # the Unity receiver of docs/streaming.md, run in a test
   xvfb xauth libgl1-mesa-dri                    # headless OpenGL for the editor's tests
   python3 python3-numpy python3-scipy           # independent reference for the assignment tests
   pybind11-dev python3-dev python3-pytest       # the Python module (bindings/python) and its tests
-  mono-mcs mono-runtime                         # the C# binding (bindings/csharp) and its test
+  mono-mcs mono-runtime                         # the C# binding and the Unity receiver of docs/streaming.md, run in tests
 )
 
 missing=()
