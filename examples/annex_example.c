@@ -41,7 +41,11 @@ int main(int argc, char** argv) {
   if (failed(annex_spec_load_file(argv[1], &spec, &error), error)) return 1;
 
   annex_session_params params;
-  annex_session_params_init(&params); /* background scans: no push waits for a scan */
+  annex_session_params_init(&params);
+  /* Frames read from files are processed offline: a push that scans waits for it, so the
+     output does not depend on the machine's speed. A render loop keeps the default
+     background scans (no push waits for a scan; docs/embedding.md). */
+  params.background_scan = 0;
   annex_session* session = NULL;
   if (failed(annex_session_create(spec, &params, &session, &error), error)) return 1;
   annex_spec_destroy(spec); /* the session keeps its own copy */
