@@ -39,7 +39,10 @@ int main(int argc, char** argv) {
   std::cout << annex::format_match_lines(*spec, scan->scene, match);
 
   annex::SessionParams params;
-  params.scan_mode = annex::ScanMode::background;
+  // Frames read from files are processed offline: each scan applies in its own frame,
+  // whatever the machine's load. A render loop sets ScanMode::background (no frame
+  // waits for a scan; docs/embedding.md).
+  params.scan_mode = annex::ScanMode::same_frame;
   annex::Result<annex::AnnexSession> session = annex::AnnexSession::create(*spec, params);
   if (!session) {
     std::cerr << session.error().format() << "\n";
