@@ -2,7 +2,7 @@
 // against the header's promise before anything is allocated for it, then the body
 // (ascii, binary, or LZF binary_compressed) decoded straight into our Frame. PCL's
 // reader, which allocates for the promise, is kept as the reference in
-// pcd_io_pcl_reference.cpp.
+// reference/src/pcd_io_pcl_reference.cpp.
 #include "annex/runtime/pcd_io.h"
 
 #include <algorithm>

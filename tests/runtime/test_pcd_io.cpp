@@ -2,6 +2,7 @@
 // frame, in every PCD encoding PCL writes, bit for bit alike), and hostile headers
 // whose promise the file cannot hold: refused before anything is allocated for it.
 #include "annex/runtime/pcd_io.h"
+#include "annex/reference/pcd_io_pcl_reference.h"
 
 #include <gtest/gtest.h>
 

@@ -50,11 +50,6 @@ Result<Frame> read_pcd(const std::filesystem::path& path);
 // Errors in an ascii body carry origin:line:col.
 Result<Frame> decode_pcd(std::string_view bytes, std::string_view origin);
 
-// PCL's own reader and writer (pcd_io_pcl_reference.cpp), the reference the decoder
-// is tested against; read_pcd does not use them.
-Result<Frame> read_pcd_pcl(const std::filesystem::path& path);
-Status write_pcd_pcl(const std::filesystem::path& path, const Frame& frame, PcdHeader::Data data);
-
 // Writes an organized (or unorganized, height 1) binary PCD with fields x y z rgba,
 // the layout of the real scans, atomically (the old file survives a failure).
 Status write_pcd(const std::filesystem::path& path, const Frame& frame);

@@ -15,7 +15,7 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
-#include "annex/runtime/pcd_io.h"
+#include "annex/reference/pcd_io_pcl_reference.h"
 
 namespace annex {
 namespace {
