@@ -7,7 +7,9 @@
 //             the same clusters: class accuracy, size error, time per cluster.
 //   world     the widened generator: class, size, support and cone direction per
 //             distance band, a confusion matrix per shape, false props and slivers.
-// Usage: annex-bench-scan [--repeat N] [--scenes N] [--world N] [--skip-pcl]
+// Usage: annex-bench-scan [--repeat N] [--scenes N] [--world N] [--skip-pcl] [--world-only]
+//        [--verbose] [--png-dir DIR]  (--verbose: every world-set miss, misclassification,
+//        leg and sliver; --png-dir: the world scenes' scan pictures and frames)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -22,6 +24,7 @@
 #include "annex/reference/scanner_pcl_reference.h"
 #include "annex/runtime/object_shape_recognizer.h"
 #include "annex/runtime/pcd_io.h"
+#include "annex/runtime/scan_overlay.h"
 #include "annex/runtime/scanner.h"
 #include "annex/runtime/synthetic_scene.h"
 
@@ -222,7 +225,7 @@ std::string truth_class(const PhysicalPrimitive& p) {
   return name;
 }
 
-void world_set(int scenes) {
+void world_set(int scenes, bool verbose, const std::string& png_dir) {
   const char* bands[] = {"< 1.5 m", "1.5-2.5 m", "> 2.5 m"};
   BandTally tally[3];
   std::map<std::string, std::map<std::string, int>> confusion;
@@ -241,6 +244,13 @@ void world_set(int scenes) {
     scan_ms.push_back(ms_since(t0));
     ++scans;
     if (!scan) ++failures;
+    if (!png_dir.empty() && scan) {
+      std::filesystem::create_directories(png_dir);
+      const std::string name = png_dir + "/world_" + std::to_string(2000 + k) + ".png";
+      if (!write_png(name, draw_scan_overlay(f.frame, *scan)) ||
+          !write_pcd(png_dir + "/world_" + std::to_string(2000 + k) + ".pcd", f.frame))
+        std::printf("  cannot write %s or its .pcd\n", name.c_str());
+    }
     // Majority label of each scanned object.
     std::vector<int> owner;
     if (scan)
@@ -259,9 +269,17 @@ void world_set(int scenes) {
         ++false_props;
         false_legs += owner[k2] == kLabelLeg;
         false_furniture += owner[k2] == kLabelFurniture;
+        if (verbose)
+          std::printf("  seed %d %s: %s reported whole (%s, %d points)\n", 2000 + k, o.id.c_str(),
+                      owner[k2] == kLabelLeg ? "leg" : owner[k2] == kLabelFurniture ? "furniture" : "background",
+                      o.primitives.empty() ? "unknown" : std::string(shape_name(o.primitives[0].kind)).c_str(),
+                      o.point_count);
       } else if (f.truth.objects[static_cast<size_t>(owner[k2])].partial) {
         partial_flagged += o.partial;
         slivers += !o.partial;
+        if (verbose && !o.partial)
+          std::printf("  seed %d %s: border sliver reported whole (%d points)\n", 2000 + k, o.id.c_str(),
+                      o.point_count);
       }
     }
     for (size_t t = 0; t < f.truth.objects.size(); ++t) {
@@ -288,6 +306,8 @@ void world_set(int scenes) {
       const std::string row = truth_class(tp);
       if (pick < 0) {
         ++confusion[row]["missed"];
+        if (verbose)
+          std::printf("  seed %d truth %zu %s at %.2f m: missed\n", 2000 + k, t, row.c_str(), dist);
         continue;
       }
       ++b.found;
@@ -303,6 +323,16 @@ void world_set(int scenes) {
           ++b.support_right;
       const std::string col = o.primitives.empty() ? "unknown" : std::string(shape_name(o.primitives[0].kind));
       ++confusion[row][col];
+      if (verbose && (o.primitives.empty() || o.primitives[0].kind != tp.kind)) {
+        std::printf("  seed %d %s truth %s [", 2000 + k, o.id.c_str(), row.c_str());
+        for (double d : tp.dimensions_m) std::printf(" %.3f", d);
+        std::printf(" ] at %.2f m, %d points, partial=%d -> %s; candidates:", dist, o.point_count,
+                    o.partial ? 1 : 0, col.c_str());
+        for (const ShapeFit& c : scan->clusters[static_cast<size_t>(pick)].shape.candidates)
+          std::printf(" %s(cov %.2f rms %.1f)", std::string(shape_name(c.primitive.kind)).c_str(),
+                      c.coverage, 1000 * c.rms_m);
+        std::printf("\n");
+      }
       if (o.primitives.empty() || o.primitives[0].kind != tp.kind) continue;
       ++b.correct;
       const PhysicalPrimitive& gp = o.primitives[0];
@@ -380,17 +410,25 @@ void real_clusters(const Frame& frame) {
 
 int main(int argc, char** argv) {
   int repeat = 30, scenes = 100, world = 60;
-  bool pcl = true;
+  bool pcl = true, world_only = false, verbose = false;
+  std::string png_dir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--repeat" && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
     else if (a == "--scenes" && i + 1 < argc) scenes = std::max(1, std::atoi(argv[++i]));
     else if (a == "--world" && i + 1 < argc) world = std::max(0, std::atoi(argv[++i]));
     else if (a == "--skip-pcl") pcl = false;
+    else if (a == "--world-only") world_only = true;
+    else if (a == "--verbose") verbose = true;
+    else if (a == "--png-dir" && i + 1 < argc) png_dir = argv[++i];
     else {
-      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--scenes N] [--world N] [--skip-pcl]\n");
+      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--scenes N] [--world N] [--skip-pcl] [--world-only] [--verbose] [--png-dir DIR]\n");
       return 2;
     }
+  }
+  if (world_only) {
+    world_set(world, verbose, png_dir);
+    return 0;
   }
   const std::filesystem::path real =
       std::filesystem::path(ANNEX_SHARED_DIR) / "data/real/milk_cartoon_all_small_clorox.pcd";
@@ -402,7 +440,7 @@ int main(int argc, char** argv) {
   if (real_frame) speed(*real_frame, "milk_cartoon_all_small_clorox.pcd", repeat, pcl);
   else std::printf("speed: ../shared/data/real absent, real frame skipped\n");
   speed(synthetic(7).frame, "generated scene seed 7", repeat, pcl);
-  if (world > 0) world_set(world);
+  if (world > 0) world_set(world, verbose, png_dir);
   accuracy_and_ransac(scenes, std::min(scenes, 30));
   if (real_frame) real_clusters(*real_frame);
   return 0;

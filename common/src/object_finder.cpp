@@ -65,7 +65,12 @@ MatchResult match_objects(const HapticSpec& spec, const PhysicalScene& scene,
   for (size_t j = 0; j < scene.objects.size(); ++j) {
     if (flag(taken, j)) continue;
     if (!params.partial_objects_vote && scene.objects[j].partial) continue;
-    if (auto rule = excluding_rule(spec, scene.objects[j], scene.support)) {
+    // Heights (exclusion rules) are measured from the support the object stands on,
+    // not from the scene's first one: a prop on a shelf is as tall as itself.
+    std::optional<Plane> own = scene.support;
+    for (const SupportSurface& s : scene.supports)
+      if (s.id == scene.objects[j].support_id) own = s.plane;
+    if (auto rule = excluding_rule(spec, scene.objects[j], own)) {
       result.excluded_by[j] = *rule;
       continue;
     }

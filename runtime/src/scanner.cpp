@@ -15,6 +15,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <map>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -252,6 +253,56 @@ Hull2 convex_hull(const std::vector<Vec3>& in, Vec3 n) {
   return h;
 }
 
+// A later support is parallel to the first one (a room's supports share one up), so it
+// is one number: its height along that normal. The pool's heights are binned by the
+// plane band and the densest band wins: walls, legs and objects spread over every
+// height, a support concentrates at one. Unlike a RANSAC triple, this finds a table
+// seen at a grazing angle from just above its height, where dropout leaves a thin,
+// holed strip and three-point normals scatter. Least squares then refines the winner
+// when the refit stays parallel to the first support.
+PlaneSearch find_parallel_plane(const ScanParams& params, const PlaneFit& first,
+                                const std::vector<Vec3>& pts, double max_tilt_deg) {
+  PlaneSearch best;
+  if (pts.size() < 50) return best;
+  const double band = params.plane_distance_m;
+  // Heights above the first plane; the camera (height first.d) must be above the support.
+  const double lo = -params.max_depth_m, hi = first.d;
+  const int bins = static_cast<int>((hi - lo) / band) + 2;
+  std::vector<int> count(static_cast<size_t>(bins), 0);
+  for (const Vec3& p : pts) {
+    const double h = dot(first.n, p) + first.d;
+    if (h <= lo || h >= hi) continue;
+    ++count[static_cast<size_t>((h - lo) / band)];
+  }
+  // Bin pairs: a band of +-band around their shared edge.
+  int peak = -1, peak_count = 0;
+  for (int k = 1; k < bins; ++k) {
+    const int c = count[static_cast<size_t>(k - 1)] + count[static_cast<size_t>(k)];
+    if (c > peak_count) peak_count = c, peak = k;
+  }
+  if (peak < 0) return best;
+  PlaneFit plane{first.n, first.d - (lo + peak * band), true};
+  if (plane.d <= 0) return best;
+  const double cos_max = std::cos(max_tilt_deg * 3.14159265358979 / 180.0);
+  for (int round = 0; round < 2; ++round) {
+    std::vector<Vec3> in;
+    in.reserve(static_cast<size_t>(peak_count) / 3 + 1);
+    for (size_t k = 0; k < pts.size(); k += 3)
+      if (std::abs(dot(plane.n, pts[k]) + plane.d) < band) in.push_back(pts[k]);
+    PlaneFit refit = fit_plane(in);
+    if (!refit.ok) break;
+    if (dot(refit.n, first.n) < 0) {
+      refit.n = refit.n * -1.0;
+      refit.d = -refit.d;
+    }
+    if (dot(refit.n, first.n) < cos_max || refit.d <= 0) break;
+    plane = refit;
+  }
+  for (const Vec3& p : pts) best.inliers += std::abs(dot(plane.n, p) + plane.d) < band;
+  best.plane = plane;
+  return best;
+}
+
 // 4-connected regions of plane inliers (still free) on the strided grid. Regions of
 // at least `min_region` grid pixels and a tenth of the largest make up the support:
 // coplanar specks elsewhere (an object's top at the same height) do not stretch it.
@@ -281,8 +332,12 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
     label[start] = next;
     for (size_t q = 0; q < queue.size(); ++q) {
       const int g = queue[q], x = g % gw, y = g / gw;
-      const int nb[4] = {x > 0 ? g - 1 : -1, x + 1 < gw ? g + 1 : -1, y > 0 ? g - gw : -1,
-                         y + 1 < gh ? g + gw : -1};
+      // Neighbours one or two grid steps away along the rows and columns: a surface
+      // seen at a grazing angle loses pixels to dropout (a far table seen from just
+      // above its height), and a single missing cell must not cut it apart.
+      const int nb[8] = {x > 0 ? g - 1 : -1, x + 1 < gw ? g + 1 : -1, y > 0 ? g - gw : -1,
+                         y + 1 < gh ? g + gw : -1, x > 1 ? g - 2 : -1, x + 2 < gw ? g + 2 : -1,
+                         y > 1 ? g - 2 * gw : -1, y + 2 < gh ? g + 2 * gw : -1};
       for (int m : nb)
         if (m >= 0 && label[m] == -1) {
           label[m] = next;
@@ -334,6 +389,31 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
   }
   if (row >= 0) close_row(row);
   return out;
+}
+
+// Whether a region is a surface seen from above rather than a band across a vertical
+// one (a far wall cut by the plane band). Along each image column a horizontal surface
+// runs away from the camera; a vertical one crosses the band in a few rows whose
+// distance along the plane differs only by depth noise. The median column's extent
+// along the view, laid on the plane, must clear three plane bands at its depth.
+bool seen_from_above(const Frame& f, const std::vector<int>& members, const PlaneFit& plane,
+                     const ScanParams& params) {
+  const Vec3 view = normalized(Vec3{0, 0, 1} - plane.n * plane.n.z);
+  std::map<int, std::pair<double, double>> span;  // column -> min, max along the view
+  std::map<int, double> depth;
+  for (int i : members) {
+    const Vec3 p = to_vec(f.points[i]);
+    const double t = dot(view, p);
+    auto [it, fresh] = span.try_emplace(i % f.width, t, t);
+    if (!fresh) it->second = {std::min(it->second.first, t), std::max(it->second.second, t)};
+    depth[i % f.width] = p.z;
+  }
+  std::vector<double> ratio;
+  for (const auto& [col, mm] : span)
+    ratio.push_back((mm.second - mm.first) / (3 * plane_band(params, depth[col])));
+  if (ratio.empty()) return false;
+  std::nth_element(ratio.begin(), ratio.begin() + ratio.size() / 2, ratio.end());
+  return ratio[ratio.size() / 2] >= 1;
 }
 
 double hull_area(const Hull2& h) {
@@ -710,8 +790,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     const PlaneSearch ps =
         planes.empty() ? find_plane(f, params, up, params.max_plane_angle_deg, pool, pool_pts, free, false,
                                   rng)
-                       : find_plane(f, params, planes.front().first.n, params.max_plane_angle_deg,
-                                    pool, pool_pts, free, true, rng);
+                       : find_parallel_plane(params, planes.front().first, pool_pts,
+                                             0.5 * params.max_support_tilt_deg);
     if (!ps.plane.ok || ps.inliers * stride * stride < params.min_plane_points) break;
     // One pass finds the inliers for the regions and for leaving the pool.
     inliers.clear();
@@ -780,6 +860,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
       if (fd.points < params.min_plane_points) continue;
       if (hull_area(convex_hull(fd.regions.hull_points, fd.plane.n)) < params.min_support_area_m2)
         continue;
+      if (!seen_from_above(f, fd.regions.members, fd.plane, params)) continue;
       found.push_back(std::move(fd));
     }
   }
@@ -927,6 +1008,46 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     int support = 0;
   };
   std::vector<Candidate> clusters;
+  // Which support's surface each strided pixel is (-1: none), and the pixels of
+  // clusters whose top a nearer support hides.
+  std::vector<int> surface_of(f.points.size(), -1);
+  for (size_t k = 0; k < ns; ++k)
+    for (int i : found[k].regions.members) surface_of[static_cast<size_t>(i)] = static_cast<int>(k);
+  std::vector<char> hidden(f.points.size(), 0);
+  // Index of a support above cluster `grid`'s own (k) whose surface, nearer to the
+  // camera, lies just above the cluster's top in most of its image columns, or -1.
+  // A support seen from above always appears above in the image what stands under it
+  // and behind its front edge; a few grid rows of look-up span the support's edge.
+  auto hidden_under = [&](const std::vector<int>& grid, int k) {
+    const PlaneFit& own = found[static_cast<size_t>(k)].plane;
+    std::map<int, int> top;  // grid column -> topmost pixel of the cluster
+    for (int i : grid) {
+      auto [it, fresh] = top.try_emplace(i % f.width, i);
+      if (!fresh && i < it->second) it->second = i;
+    }
+    std::map<int, int> votes;
+    for (const auto& [col, i] : top) {
+      const double z = f.points[i].z;
+      for (int r = 1; r <= 6; ++r) {
+        const int j = i - r * stride * f.width;
+        if (j < 0) break;
+        if (!valid(f.points[j])) continue;
+        const int o = surface_of[static_cast<size_t>(j)];
+        if (o < 0 || o == k) {
+          // The support's front edge (its thickness) is no support pixel: look on
+          // past pixels as near as the support would be, stop at anything behind.
+          if (f.points[j].z > z + cluster_tolerance(params, z)) break;
+          continue;
+        }
+        const PlaneFit& sup = found[static_cast<size_t>(o)].plane;
+        if (sup.d < own.d && f.points[j].z < z + cluster_tolerance(params, z)) ++votes[o];
+        break;
+      }
+    }
+    for (const auto& [o, n] : votes)
+      if (2 * n > static_cast<int>(top.size())) return o;
+    return -1;
+  };
   for (const std::vector<int>& grid : grow_clusters(f, mask, seeds, stride, params)) {
     const int k = mask[grid.front()] - 1;
     if (!result.supports[static_cast<size_t>(k)].selected) continue;
@@ -970,6 +1091,21 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
       under = hi - lo < params.under_width_share * (shi - slo);
     }
     if (under) continue;
+    // Its top hidden under a nearer, higher support: a leg whose top meets the table's
+    // underside, the wall or a bin seen under the table. Thin ones are legs (dropped);
+    // the others are flagged partial, since no one sees where they end.
+    const int over = hidden_under(grid, k);
+    if (over >= 0) {
+      const Vec3 across = normalized(Vec3{1, 0, 0} - plane.n * plane.n.x);
+      double lo = 1e9, hi = -1e9, top_h = -1e9;
+      for (int i : grid) {
+        const Vec3 p = to_vec(f.points[i]);
+        lo = std::min(lo, dot(across, p));
+        hi = std::max(hi, dot(across, p));
+        top_h = std::max(top_h, dot(plane.n, p) + plane.d);
+      }
+      if (hi - lo < params.under_width_share * top_h) continue;
+    }
     // Touching objects apart at the creases and depth steps between them. The regions
     // grow with the tolerance the clustering used at the cluster's farthest point (it
     // widens with depth noise), so a far cluster is not cut where it merely is noisy.
@@ -981,6 +1117,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
       if (static_cast<int>(full.size()) < min_points ||
           static_cast<int>(full.size()) > params.max_cluster_points)
         continue;
+      if (over >= 0)
+        for (int i : full) hidden[static_cast<size_t>(i)] = 1;
       clusters.push_back({std::move(full), k});
     }
   }
@@ -1060,7 +1198,10 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
       at_border += x < left + border || y < top + border || x > right - border ||
                    y > bottom - border;
     }
-    obj.partial = at_border >= 3 || obj.point_count < params.min_whole_points;
+    size_t covered = 0;
+    for (int i : sc.pixels) covered += hidden[static_cast<size_t>(i)];
+    obj.partial = at_border >= 3 || obj.point_count < params.min_whole_points ||
+                  2 * covered > sc.pixels.size();
     result.scene.objects.push_back(std::move(obj));
   }
   result.stages.push_back({"shapes", ms_since(t0)});

@@ -701,11 +701,19 @@ PhysicalScene ground_truth(const SyntheticScene& scene, const Frame* frame,
   }
 
   std::vector<int> counts(scene.objects.size(), 0);
-  if (frame && labels && labels->size() == frame->points.size()) {
+  // Cut by the image border: some ray of the outermost rows or columns hits it (its
+  // image box may cross the border while its silhouette does not: a torus's corner).
+  std::vector<char> at_edge(scene.objects.size(), 0);
+  const bool labelled = frame && labels && labels->size() == frame->points.size();
+  if (labelled) {
+    const std::size_t w = static_cast<std::size_t>(std::max(1, frame->width));
+    const std::size_t h = labels->size() / w;
     for (std::size_t i = 0; i < labels->size(); ++i) {
       const int l = (*labels)[i];
-      if (l >= 0 && static_cast<std::size_t>(l) < counts.size() && std::isfinite(frame->points[i].z))
-        ++counts[static_cast<std::size_t>(l)];
+      if (l < 0 || static_cast<std::size_t>(l) >= counts.size()) continue;
+      if (std::isfinite(frame->points[i].z)) ++counts[static_cast<std::size_t>(l)];
+      const std::size_t x = i % w, y = i / w;
+      if (x == 0 || y == 0 || x + 1 == w || y + 1 == h) at_edge[static_cast<std::size_t>(l)] = 1;
     }
   }
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
@@ -719,7 +727,7 @@ PhysicalScene ground_truth(const SyntheticScene& scene, const Frame* frame,
     prim.fit = 1.0;
     PhysicalObject obj;
     obj.support_id = support_ids[static_cast<std::size_t>(std::max(0, o.support))];
-    obj.partial = o.cut;
+    obj.partial = labelled ? at_edge[i] != 0 : o.cut;
     obj.id = "o";  // not "o" + ...: GCC 12 warns falsely (-Wrestrict, bug 105329)
     obj.id += std::to_string(i + 1);
     obj.primitives.push_back(prim);

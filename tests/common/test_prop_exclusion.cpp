@@ -94,5 +94,32 @@ TEST(PropExclusion, TheObjectFinderLeavesExcludedPropsOut) {
   EXPECT_FALSE(match_objects(spec, scene).matches[0].physical_index.has_value());
 }
 
+TEST(PropExclusion, HeightsFromTheObjectsOwnSupport) {
+  // Two supports: the floor 0.75 m below the table (s1, the scene's first) and the
+  // table (s2). A 20 cm ball on the table is 20 cm tall, not 95 cm: a rule against
+  // props taller than 50 cm leaves it a candidate.
+  HapticSpec spec;
+  VirtualObject ball;
+  ball.name = "ball";
+  Primitive body = make_primitive(ShapeKind::sphere, "body");
+  body.dimensions[0].value_m = 0.1;
+  ball.primitives.push_back(body);
+  spec.objects.push_back(ball);
+  spec.exclude.push_back({"tall", std::nullopt, {{"prop_height", 0.5, std::nullopt}}});
+  const Plane floor{{0, -1, 0}, 1.55};
+  PhysicalScene scene;
+  scene.support = floor;
+  scene.supports = {{"s1", floor, 9000}, {"s2", kTable, 5000}};
+  PhysicalObject on_table = object("p1", {upright(ShapeKind::sphere, {0.1}, 0.8, 0.1)});
+  on_table.support_id = "s2";
+  scene.objects.push_back(on_table);
+  MatchResult r = match_objects(spec, scene);
+  EXPECT_EQ(r.excluded_by, (std::vector<int>{-1}));
+  ASSERT_TRUE(r.matches[0].physical_index.has_value());
+  // Without its support id, the scene's first support measures it (95 cm: excluded).
+  scene.objects[0].support_id.clear();
+  EXPECT_EQ(match_objects(spec, scene).excluded_by, (std::vector<int>{0}));
+}
+
 }  // namespace
 }  // namespace annex
