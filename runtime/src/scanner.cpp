@@ -814,6 +814,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     // Later supports share the first one's up once refined (single RANSAC triples on
     // a far, noisy floor scatter by more than that).
     if (!planes.empty() && dot(ps.plane.n, planes.front().first.n) < cos_tilt) continue;
+    // ... with the camera clearly above them: a plane at the camera's own height (a
+    // box's top level with the lens) is seen edge-on and shows nothing standing on it.
+    if (!planes.empty() && ps.plane.d < params.min_support_gap_m) continue;
     // ... and lie clearly above or below every earlier one where they are seen: a
     // plane through the far floor's noise is not a second support.
     bool apart = true;

@@ -563,11 +563,36 @@ TEST(ScannerWorld, TableObjectsFoundOnTheirSupportsAndNoLegsOrSlivers) {
   }
   ASSERT_GT(truth_near, 8);
   EXPECT_GE(found_near, truth_near * 90 / 100) << found_near << " of " << truth_near;
-  // Measured: 23 of 28 on the right support, 6 legs and 1 sliver reported whole
-  // (docs/perception.md lists these as open); the bounds guard against regressions.
-  EXPECT_GE(on_right_support, found * 75 / 100) << on_right_support << " of " << found;
-  EXPECT_LE(legs, 8);
-  EXPECT_LE(slivers, 2);
+  // Measured: 32 of 32 on the right support, 4 legs (one scene) and no sliver reported
+  // whole (the generator's truth marks an object cut when its pixels reach the border).
+  EXPECT_GE(on_right_support, found * 90 / 100) << on_right_support << " of " << found;
+  // The four legs left are seed 2007's: its table, 3 m away seen from 25 cm above, is a
+  // strip joined to the wall behind it and not found as a support (docs/perception.md).
+  EXPECT_LE(legs, 4);
+  EXPECT_EQ(slivers, 0);
+}
+
+TEST(ScannerWorld, TableSeenFromJustAboveItsTop) {
+  // Seed 2011: a level camera 25 cm above the table, 2 m away. The top is a thin strip
+  // that dropout holes (grazing incidence); the floor is the first plane. The table
+  // is found as the support parallel to the floor, its objects stand on it, its legs
+  // are not props and the wall seen under it is partial (its top hidden by the table).
+  const SyntheticFrame f = world(2011);
+  const Result<ScanResult> scan = scan_frame(f.frame);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  const SupportSurface* table = nullptr;
+  for (const SupportSurface& sp : scan->scene.supports)
+    if (std::abs(sp.plane.d - f.truth.supports[0].plane.d) < 0.03) table = &sp;
+  ASSERT_NE(table, nullptr) << "no support at the table's height";
+  int on_table = 0;
+  for (size_t k = 0; k < scan->clusters.size(); ++k) {
+    const int owner = majority_label(f, scan->clusters[k]);
+    const PhysicalObject& o = scan->scene.objects[k];
+    if (owner >= 0 && o.support_id == table->id) ++on_table;
+    if (owner == kLabelLeg) EXPECT_TRUE(o.partial) << o.id << " is a leg reported whole";
+    if (owner == kLabelWall) EXPECT_TRUE(o.partial) << o.id << " is the wall reported whole";
+  }
+  EXPECT_GE(on_table, 2);
 }
 
 TEST(ScannerWorld, SupportSelection) {
