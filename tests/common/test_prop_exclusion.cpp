@@ -29,6 +29,16 @@ PhysicalObject object(std::string id, std::vector<PhysicalPrimitive> prims) {
   return o;
 }
 
+// A virtual object of one sphere.
+VirtualObject one_sphere(std::string name, double radius_m) {
+  VirtualObject v;
+  v.name = std::move(name);
+  Primitive p = make_primitive(ShapeKind::sphere, "body");
+  p.dimensions[0].value_m = radius_m;
+  v.primitives.push_back(p);
+  return v;
+}
+
 TEST(PropExclusion, HeightAboveTheSupport) {
   // A bottle: a 20 cm body on the table and a 10 cm neck on it.
   const PhysicalObject bottle = object("p1", {upright(ShapeKind::cylinder, {0.04, 0.2}, 0.8, 0.1),
@@ -67,12 +77,7 @@ TEST(PropExclusion, FirstMatchingRuleWins) {
 
 TEST(PropExclusion, TheObjectFinderLeavesExcludedPropsOut) {
   HapticSpec spec;
-  VirtualObject lamp;
-  lamp.name = "lamp";
-  Primitive shade = make_primitive(ShapeKind::sphere, "shade");
-  shade.dimensions[0].value_m = 0.11;
-  lamp.primitives.push_back(shade);
-  spec.objects.push_back(lamp);
+  spec.objects.push_back(one_sphere("lamp", 0.11));
   PhysicalScene scene;
   scene.support = kTable;
   scene.objects.push_back(object("p1", {upright(ShapeKind::sphere, {0.11}, 0.8, 0.11)}));
@@ -99,12 +104,7 @@ TEST(PropExclusion, HeightsFromTheObjectsOwnSupport) {
   // table (s2). A 20 cm ball on the table is 20 cm tall, not 95 cm: a rule against
   // props taller than 50 cm leaves it a candidate.
   HapticSpec spec;
-  VirtualObject ball;
-  ball.name = "ball";
-  Primitive body = make_primitive(ShapeKind::sphere, "body");
-  body.dimensions[0].value_m = 0.1;
-  ball.primitives.push_back(body);
-  spec.objects.push_back(ball);
+  spec.objects.push_back(one_sphere("ball", 0.1));
   spec.exclude.push_back({"tall", std::nullopt, {{"prop_height", 0.5, std::nullopt}}});
   const Plane floor{{0, -1, 0}, 1.55};
   PhysicalScene scene;
