@@ -10,8 +10,10 @@
 //              expectations table (bench/osd_expectations.txt) gives its label.
 // Per scene the scan time (median of --repeat runs) against the number of objects.
 // Usage: annex-eval-osd OSD_DIR [--expect FILE] [--config SCAN.conf] [--repeat N]
-//                       [--png-dir DIR] [--scenes FIRST-LAST] [--verbose]
+//                       [--png-dir DIR] [--scenes FIRST-LAST] [--verbose] [--explain]
 //                       [--method crease|none|lccp]
+// --explain prints, per reported object, its primitives and every candidate the shape
+// recognizer tried (as `annex-runtime scan --explain` does).
 // --method none scans without splitting clusters; lccp splits the unsplit clusters with
 // PCL's supervoxels + LCCP instead (segments only: no shapes, so no shape columns).
 #include <algorithm>
@@ -79,6 +81,24 @@ std::string pct(int a, int b) {
   return t;
 }
 
+// "cone radius=0.0600 height=0.0800 narrow_radius=0.0400 center=... axis=...".
+std::string describe_primitive(const PhysicalPrimitive& p) {
+  std::string out(shape_name(p.kind));
+  char t[96];
+  const auto names = dimension_names(p.kind);
+  for (size_t k = 0; k < names.size() && k < p.dimensions_m.size(); ++k) {
+    std::snprintf(t, sizeof t, " %s=%.4f", std::string(names[k]).c_str(), p.dimensions_m[k]);
+    out += t;
+  }
+  if (p.narrow_radius_m > 0) {
+    std::snprintf(t, sizeof t, " narrow_radius=%.4f", p.narrow_radius_m);
+    out += t;
+  }
+  std::snprintf(t, sizeof t, " center=%.3f,%.3f,%.3f axis=%.3f,%.3f,%.3f", p.center.x, p.center.y,
+                p.center.z, p.axis.x, p.axis.y, p.axis.z);
+  return out + t;
+}
+
 void print_row(const char* name, const Tally& t) {
   std::printf("%-9s %4d %5d/%-3d %s  %5d/%-3d %s  %5d %6d   %2d/%-2d %s   %2d/%-2d %s   %2d/%-2d\n",
               name, t.labelled, t.found, t.labelled, pct(t.found, t.labelled).c_str(), t.whole,
@@ -101,7 +121,7 @@ int main(int argc, char** argv) {
   std::filesystem::path expect_path = ANNEX_BENCH_DIR "/osd_expectations.txt";
   std::optional<std::filesystem::path> config, png_dir;
   int repeat = 5, first = 0, last = 44;
-  bool verbose = false;
+  bool verbose = false, explain = false;
   std::string method = "crease";
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
@@ -135,6 +155,8 @@ int main(int argc, char** argv) {
       }
     } else if (a == "--verbose")
       verbose = true;
+    else if (a == "--explain")
+      explain = true;
     else {
       std::fprintf(stderr, "annex-eval-osd: unknown option '%s'\n", a.c_str());
       return 2;
@@ -222,6 +244,17 @@ int main(int argc, char** argv) {
                 score.box_expected + score.cylinder_expected + score.frustum_expected, ms);
     if (verbose)
       for (const std::string& line : score.notes) std::printf("    %s\n", line.c_str());
+    if (explain && scan && method != "lccp")
+      for (size_t k = 0; k < scan->clusters.size(); ++k) {
+        const PhysicalObject& o = scan->scene.objects[k];
+        std::printf("    object %s points=%d%s%s\n", o.id.c_str(), o.point_count,
+                    o.on_object.empty() ? "" : (" on=" + o.on_object).c_str(), o.partial ? " partial" : "");
+        for (const PhysicalPrimitive& p : o.primitives)
+          std::printf("      primitive %s\n", describe_primitive(p).c_str());
+        for (const ShapeFit& c : scan->clusters[k].shape.candidates)
+          std::printf("      candidate %s coverage=%.2f rms_mm=%.1f\n",
+                      describe_primitive(c.primitive).c_str(), c.coverage, c.rms_m * 1000);
+      }
   }
   std::printf("\ncategory  objs  recall       %%    precision    %%  frags merges  "
               "box-as-box  %%   cyl-as-cyl %%   frustum\n");

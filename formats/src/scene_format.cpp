@@ -15,12 +15,14 @@ using namespace detail;
 
 constexpr std::string_view kHeader = "annex-scene";
 // Version 2 adds support ids (several supports), an object's `on` and `partial`, and
-// a cone's narrow_radius; version-1 files still read. The writer uses version 1 when
-// the scene needs nothing of version 2, so older readers keep reading such files.
-constexpr int kVersion = 2;
+// a cone's narrow_radius; version 3 adds `on_object` (an object standing on another
+// object's top). Older files still read. The writer uses the lowest version the scene
+// needs, so older readers keep reading the files that need nothing newer.
+constexpr int kVersion = 3;
 constexpr std::string_view kTopKeys[] = {"support", "object"};
 constexpr std::string_view kObjectKeys[] = {"points", "fit", "sphere", "cylinder", "cone",
-                                            "torus",  "box", "end",    "on",       "partial"};
+                                            "torus",  "box", "end",    "on",       "partial",
+                                            "on_object"};
 constexpr std::string_view kPrimitiveKeys[] = {"center", "axis", "fit"};
 
 Result<Vec3> read_vec3(LineReader& r, std::string_view key) {
@@ -50,7 +52,8 @@ Result<Vec3> read_direction(LineReader& r, std::string_view origin, std::string_
 struct OpenObject {
   PhysicalObject object;
   int line = 0;
-  Token on;  // the `on` value, checked against the supports at the end
+  Token on;         // the `on` value, checked against the supports at the end
+  Token on_object;  // the `on_object` value, checked against the objects at the end
   std::map<std::string, int, std::less<>> keys;
 };
 
@@ -121,6 +124,23 @@ Result<PhysicalPrimitive> parse_primitive(LineReader& r, std::string_view origin
   return p;
 }
 
+// A stack that leads back to where it started (a on b, b on a) is no stack: the
+// message naming the loop, or nothing. Objects naming no declared object end a walk.
+std::optional<std::string> stacking_cycle(const PhysicalScene& scene, const std::string& start) {
+  std::map<std::string_view, const PhysicalObject*> by_id;
+  for (const PhysicalObject& o : scene.objects) by_id.emplace(o.id, &o);
+  std::string path = start;
+  std::string_view at = start;
+  for (std::size_t step = 0; step <= scene.objects.size(); ++step) {
+    const auto it = by_id.find(at);
+    if (it == by_id.end() || it->second->on_object.empty()) return std::nullopt;
+    at = it->second->on_object;
+    path += " on " + std::string(at);
+    if (at == start) return "objects stand on each other in a loop (" + path + ")";
+  }
+  return std::nullopt;  // a loop not through `start`: reported from one of its members
+}
+
 void write_vec3(std::string& out, const Vec3& v) {
   out += format_number(v.x) + " " + format_number(v.y) + " " + format_number(v.z);
 }
@@ -151,13 +171,15 @@ Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin
     const Token& key = r.take();
 
     if (!have_header) {
-      // Version 2 when the file says so, else the version-1 header (and its errors).
-      version = line.tokens.size() > 1 && line.tokens[1].text == "2" ? 2 : 1;
+      // Version 2 or 3 when the file says so, else the version-1 header (and its errors).
+      version = 1;
+      if (line.tokens.size() > 1 && (line.tokens[1].text == "2" || line.tokens[1].text == "3"))
+        version = line.tokens[1].text == "2" ? 2 : 3;
       if (auto st = read_header(r, key, kHeader, version); !st) {
         Error e = st.error();
         const std::string one = "this reader knows version 1";
         if (auto at = e.message.find(one); at != std::string::npos)
-          e.message.replace(at, one.size(), "this reader knows versions 1 and 2");
+          e.message.replace(at, one.size(), "this reader knows versions 1 to 3");
         return e;
       }
       have_header = true;
@@ -173,7 +195,7 @@ Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin
             "unknown key " + shown(key) + " " + block + suggestion(key.text, kObjectKeys));
       if (key.text == "end") {
         if (auto st = r.expect_end("end"); !st) return st.error();
-        if (!o.object.support_id.empty()) placed.push_back(o);
+        if (!o.object.support_id.empty() || !o.object.on_object.empty()) placed.push_back(o);
         scene.objects.push_back(std::move(o.object));
         obj.reset();
         continue;
@@ -182,7 +204,10 @@ Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin
         return error_at(origin, key,
                         "'" + key.text + "' in object '" + o.object.id +
                             "' needs the header 'annex-scene 2'");
-      if (version >= 2 && (key.text == "on" || key.text == "partial")) {
+      if (version < 3 && key.text == "on_object")
+        return error_at(origin, key,
+                        "'on_object' in object '" + o.object.id + "' needs the header 'annex-scene 3'");
+      if (version >= 2 && (key.text == "on" || key.text == "partial" || key.text == "on_object")) {
         if (auto it = o.keys.find(key.text); it != o.keys.end())
           return error_at(origin, key,
                           "duplicate key '" + key.text + "' in object '" + o.object.id +
@@ -193,6 +218,13 @@ Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin
           if (!id) return id.error();
           o.object.support_id = *id;
           o.on = r.last();
+        } else if (key.text == "on_object") {
+          auto id = r.identifier("object id", "on_object");
+          if (!id) return id.error();
+          if (*id == o.object.id)
+            return error_at(origin, r.last(), "object '" + o.object.id + "' cannot stand on itself");
+          o.object.on_object = *id;
+          o.on_object = r.last();
         } else {
           o.object.partial = true;
         }
@@ -312,11 +344,19 @@ Result<PhysicalScene> parse_scene(std::string_view text, std::string_view origin
     return Error{"missing 'end' for object '" + obj->object.id + "' (opened at line " +
                      std::to_string(obj->line) + ") at the end of the input",
                  eof};
-  for (const OpenObject& o : placed)
-    if (!support_lines.contains(o.object.support_id))
+  for (const OpenObject& o : placed) {
+    if (!o.object.support_id.empty() && !support_lines.contains(o.object.support_id))
       return error_at(origin, o.on,
                       "object '" + o.object.id + "' is on support '" + o.object.support_id +
                           "', which the file does not declare");
+    if (!o.object.on_object.empty() && !object_lines.contains(o.object.on_object))
+      return error_at(origin, o.on_object,
+                      "object '" + o.object.id + "' stands on object '" + o.object.on_object +
+                          "', which the file does not declare");
+  }
+  for (const OpenObject& o : placed)
+    if (auto cycle = stacking_cycle(scene, o.object.id))
+      return error_at(origin, o.on_object, *cycle);
   return scene;
 }
 
@@ -361,6 +401,7 @@ Status validate_scene(const PhysicalScene& scene, std::string_view origin) {
     if (!o.support_id.empty() && !support_ids.contains(o.support_id))
       return fail(where, "object '" + o.id + "' is on support '" + o.support_id +
                              "', which the scene does not hold");
+    if (o.on_object == o.id) return fail(where, "object '" + o.id + "' cannot stand on itself");
     if (o.primitives.size() > kMaxPrimitivesPerObject)
       return fail(where, "object '" + o.id + "' has more than " +
                              std::to_string(kMaxPrimitivesPerObject) + " primitives");
@@ -387,16 +428,26 @@ Status validate_scene(const PhysicalScene& scene, std::string_view origin) {
         return fail(where, "narrow_radius must be 0, or for a cone less than its radius");
     }
   }
+  for (const PhysicalObject& o : scene.objects) {
+    if (o.on_object.empty()) continue;
+    const std::string where = base + ": object '" + o.id + "'";
+    if (!ids.contains(o.on_object))
+      return fail(where, "object '" + o.id + "' stands on object '" + o.on_object +
+                             "', which the scene does not hold");
+    if (auto cycle = stacking_cycle(scene, o.id)) return fail(where, *cycle);
+  }
   return Ok{};
 }
 
 std::string write_scene(const PhysicalScene& scene) {
-  bool v2 = !scene.supports.empty();
+  bool v2 = !scene.supports.empty(), v3 = false;
   for (const PhysicalObject& o : scene.objects) {
     v2 = v2 || !o.support_id.empty() || o.partial;
+    v3 = v3 || !o.on_object.empty();
     for (const PhysicalPrimitive& p : o.primitives) v2 = v2 || p.narrow_radius_m > 0;
   }
-  std::string out = std::string(kHeader) + " " + std::to_string(v2 ? kVersion : 1) + "\n";
+  v2 = v2 || v3;
+  std::string out = std::string(kHeader) + " " + std::to_string(v3 ? kVersion : v2 ? 2 : 1) + "\n";
   if (v2) {
     for (const SupportSurface& sp : scene.supports) {
       out += "support " + sp.id + " ";
@@ -416,6 +467,7 @@ std::string write_scene(const PhysicalScene& scene) {
   for (const PhysicalObject& o : scene.objects) {
     out += "\nobject " + o.id + "\n";
     if (!o.support_id.empty()) out += "  on " + o.support_id + "\n";
+    if (!o.on_object.empty()) out += "  on_object " + o.on_object + "\n";
     if (o.partial) out += "  partial\n";
     out += "  points " + std::to_string(o.point_count) + "\n";
     out += "  fit " + format_number(o.fit) + "\n";

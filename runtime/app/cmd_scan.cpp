@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "annex/formats/scene_format.h"
@@ -26,7 +27,9 @@ std::string num(double x, int digits = 4) {
 
 std::string vec(Vec3 v) { return num(v.x) + "," + num(v.y) + "," + num(v.z); }
 
-std::string primitive_fields(const PhysicalPrimitive& p) {
+// up: the normal of the support the object stands on, which a cone's `narrows` is read
+// against (up: a lampshade, a cone on its base; down: a cup, a bowl, a flower pot).
+std::string primitive_fields(const PhysicalPrimitive& p, const std::optional<Vec3>& up = {}) {
   std::string out(shape_name(p.kind));
   const auto names = dimension_names(p.kind);
   for (size_t k = 0; k < names.size() && k < p.dimensions_m.size(); ++k)
@@ -34,6 +37,11 @@ std::string primitive_fields(const PhysicalPrimitive& p) {
   if (p.kind == ShapeKind::cone && p.narrow_radius_m > 0)
     out.append(" narrow_radius=").append(num(p.narrow_radius_m));
   out.append(" center=").append(vec(p.center)).append(" axis=").append(vec(p.axis));
+  if (p.kind == ShapeKind::cone && up && norm(p.axis) > 0) {
+    // The axis runs from the wide end to the narrow one.
+    const double c = dot(normalized(p.axis), normalized(*up));
+    out.append(" narrows=").append(c > 0.7 ? "up" : c < -0.7 ? "down" : "side");
+  }
   return out;
 }
 
@@ -99,15 +107,20 @@ int run_scan(const std::vector<std::string>& args) {
               << " points=" << s.point_count << "\n";
   for (size_t i = 0; i < r.scene.objects.size(); ++i) {
     const PhysicalObject& o = r.scene.objects[i];
-    const std::string tail = " support=" + o.support_id + (o.partial ? " partial=1" : "");
+    std::optional<Vec3> up;
+    for (const SupportSurface& sp : r.scene.supports)
+      if (sp.id == o.support_id) up = sp.plane.normal;
+    const std::string tail = " support=" + o.support_id +
+                             (o.on_object.empty() ? "" : " on=" + o.on_object) +
+                             (o.partial ? " partial=1" : "");
     if (o.primitives.empty()) {
       std::cout << "object " << o.id << " unknown points=" << o.point_count << " fit=0" << tail
                 << "\n";
     } else {
-      std::cout << "object " << o.id << " " << primitive_fields(o.primitives[0])
+      std::cout << "object " << o.id << " " << primitive_fields(o.primitives[0], up)
                 << " points=" << o.point_count << " fit=" << num(o.fit, 2) << tail << "\n";
       for (size_t k = 1; k < o.primitives.size(); ++k)
-        std::cout << "part " << o.id << " " << primitive_fields(o.primitives[k])
+        std::cout << "part " << o.id << " " << primitive_fields(o.primitives[k], up)
                   << " fit=" << num(o.primitives[k].fit, 2) << "\n";
     }
     if (parsed->has("explain") && i < r.clusters.size())

@@ -4,9 +4,12 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace annex {
 namespace {
+
+constexpr double kPi = 3.14159265358979323846;
 
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0;
@@ -40,10 +43,11 @@ AxisCylinderFit finish(const std::vector<Vec3>& points, const std::vector<Eigen:
                        const std::vector<double>& s, const std::vector<double>& tol,
                        const ShapeRecognizerParams& params, const Eigen::Vector3d& axis,
                        const Eigen::Vector3d& e1, const Eigen::Vector3d& e2,
-                       const Eigen::Vector2d& c, double r, AxisCylinderFit out) {
+                       const Eigen::Vector2d& c, double r, AxisCylinderFit out,
+                       std::optional<double> lid_end = std::nullopt) {
   const size_t n = points.size();
   if (r < params.min_radius_m || r > params.max_radius_m) return out;
-  const double s0 = quantile(s, 0.01), s1 = quantile(s, 0.99);
+  const double s0 = quantile(s, 0.01), s1 = lid_end ? *lid_end : quantile(s, 0.99);
   const double half = (s1 - s0) / 2, mid = (s0 + s1) / 2;
   if (half <= 0) return out;
   double score = 0, covered = 0, sq = 0;
@@ -139,7 +143,115 @@ AxisCylinderFit fit_from(const std::vector<Vec3>& points, const std::vector<Vec3
   return finish(points, q, s, tol, params, axis, e1, e2, c, r, out);
 }
 
+// The least direction of the scatter of points (all of them, or those marked).
+Eigen::Vector3d flattest_direction(const std::vector<Vec3>& points, const std::vector<char>& use) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (size_t i = 0; i < points.size(); ++i)
+    if (use[i]) {
+      mean += Eigen::Vector3d(points[i].x, points[i].y, points[i].z);
+      ++n;
+    }
+  if (n < 3) return Eigen::Vector3d::Zero();
+  mean /= n;
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  for (size_t i = 0; i < points.size(); ++i)
+    if (use[i]) {
+      const Eigen::Vector3d q = Eigen::Vector3d(points[i].x, points[i].y, points[i].z) - mean;
+      m += q * q.transpose();
+    }
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m).eigenvectors().col(0);
+}
+
 }  // namespace
+
+DiscCylinderFit fit_cylinder_on_rim(const std::vector<Vec3>& points, const std::vector<double>& tol,
+                                    const ShapeRecognizerParams& params) {
+  DiscCylinderFit out;
+  const size_t n = points.size();
+  if (n < 60 || tol.size() != n) return out;
+  // The lid: the plane of the flattest direction, refitted twice on the points within
+  // the tolerance of it (the rim and a neighbour's stray points leave).
+  std::vector<char> use(n, 1);
+  Eigen::Vector3d axis = flattest_direction(points, use);
+  for (int round = 0; round < 2 && axis.norm() > 0.5; ++round) {
+    std::vector<double> s(n);
+    for (size_t i = 0; i < n; ++i) s[i] = axis.dot(Eigen::Vector3d(points[i].x, points[i].y, points[i].z));
+    // The lid is the end of the points nearest the camera along the axis.
+    const Eigen::Vector3d to_eye = -Eigen::Vector3d(points[0].x, points[0].y, points[0].z);
+    if (axis.dot(to_eye) < 0) {
+      axis = -axis;
+      for (double& v : s) v = -v;
+    }
+    const double lid = quantile(s, 0.9);
+    int kept = 0;
+    for (size_t i = 0; i < n; ++i) kept += use[i] = std::abs(s[i] - lid) < 2 * tol[i];
+    if (kept < 30) return out;
+    axis = flattest_direction(points, use);
+  }
+  if (axis.norm() < 0.5) return out;
+  if (axis.dot(-Eigen::Vector3d(points[0].x, points[0].y, points[0].z)) < 0) axis = -axis;
+  const Eigen::Vector3d seed = std::abs(axis.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d e1 = axis.cross(seed).normalized(), e2 = axis.cross(e1);
+  std::vector<Eigen::Vector2d> q(n);
+  std::vector<double> s(n);
+  Eigen::Vector2d mid = Eigen::Vector2d::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d p(points[i].x, points[i].y, points[i].z);
+    q[i] = Eigen::Vector2d(p.dot(e1), p.dot(e2));
+    s[i] = p.dot(axis);
+    mid += q[i];
+  }
+  mid /= static_cast<double>(n);
+  // The outline seen along the axis: per direction from the middle, the farthest point.
+  constexpr int kBins = 72;
+  std::vector<int> far(kBins, -1);
+  std::vector<double> far_r(kBins, 0);
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d d = q[i] - mid;
+    const int b = std::clamp(static_cast<int>((std::atan2(d.y(), d.x()) + kPi) / (2 * kPi) * kBins), 0, kBins - 1);
+    if (d.norm() > far_r[b]) {
+      far_r[b] = d.norm();
+      far[b] = static_cast<int>(i);
+    }
+  }
+  std::vector<Eigen::Vector2d> rim;
+  std::vector<double> rim_tol;
+  for (int b = 0; b < kBins; ++b)
+    if (far[b] >= 0) {
+      rim.push_back(q[far[b]]);
+      // The outline is where depth ends: a silhouette pixel is off by about a pixel.
+      const double pixel = std::abs(points[far[b]].z) / 525.0;
+      rim_tol.push_back(std::max(tol[far[b]], 2 * pixel));
+    }
+  if (rim.size() < kBins / 2) return out;
+  std::vector<double> w(rim.size(), 1.0);
+  Eigen::Vector2d c;
+  double r = 0;
+  if (!kasa(rim, w, c, r)) return out;
+  for (int round = 0; round < 4; ++round) {
+    for (size_t k = 0; k < rim.size(); ++k) {
+      const double e = ((rim[k] - c).norm() - r) / (3 * rim_tol[k]);
+      w[k] = std::abs(e) < 1 ? (1 - e * e) * (1 - e * e) : 0.0;
+    }
+    if (!kasa(rim, w, c, r)) return out;
+  }
+  int on = 0;
+  for (size_t k = 0; k < rim.size(); ++k) on += std::abs((rim[k] - c).norm() - r) < rim_tol[k];
+  out.round_outline = static_cast<double>(on) / kBins;
+  // The lid sits at the median of its points (an embossed lid spreads them over
+  // millimetres), the far end at the last points seen along the axis.
+  std::vector<double> lid_s;
+  for (size_t i = 0; i < n; ++i)
+    if (use[i]) lid_s.push_back(s[i]);
+  out.cylinder = finish(points, q, s, tol, params, axis, e1, e2, c, r, AxisCylinderFit{},
+                        quantile(lid_s, 0.5));
+  if (out.cylinder.valid) {
+    // Side normals are not used: the rim seen is often a thin strip.
+    out.cylinder.facetedness = 0;
+  }
+  return out;
+}
 
 AxisCylinderFit fit_cylinder_any_axis(const std::vector<Vec3>& points,
                                       const std::vector<Vec3>& normals,

@@ -26,4 +26,17 @@ AxisCylinderFit fit_cylinder_any_axis(const std::vector<Vec3>& points,
                                       const std::vector<double>& tolerance,
                                       const ShapeRecognizerParams& params);
 
+// A short wide cylinder on its rim or lying with its lid to the camera (a cookie tin on
+// its edge): the lid is a flat disc, so the axis is the normal of the points' flattest
+// direction (the lid's plane refitted on its own points; an embossed lid's normals
+// scatter, its points do not), and the outline of the points seen along that axis is a
+// circle. `round_outline` is the share of outline directions on the fitted circle.
+struct DiscCylinderFit {
+  AxisCylinderFit cylinder;
+  double round_outline = 0;
+};
+DiscCylinderFit fit_cylinder_on_rim(const std::vector<Vec3>& points,
+                                    const std::vector<double>& tolerance,
+                                    const ShapeRecognizerParams& params);
+
 }  // namespace annex

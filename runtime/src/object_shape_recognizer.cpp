@@ -57,6 +57,7 @@ struct Samples {
   std::vector<Vec3> xyz;
   bool has_normals = false;
   double top = 0;  // object height above the plane
+  Local eye;       // the camera (the sensor's origin) in plane coordinates
 };
 
 enum class Model { sphere, cylinder, cone, torus, box, lying_cylinder };
@@ -73,6 +74,7 @@ struct Candidate {
   double ex = 0, ey = 0;  // box half sizes; lying cylinder: ex = half length
   bool valid = false;
   bool as_cylinder = false;  // a frustum reported as the cylinder of its mean radius
+  double floor_h = -1;       // an open container's inner floor height (cylinder, cone), -1 none
   double score = 0, coverage = 0, rms = 0;
 };
 
@@ -94,7 +96,9 @@ double distance(const Candidate& c, const Local& p) {
       const double over = p.h > c.h1 ? p.h - c.h1 : (p.h < c.h0 ? c.h0 - p.h : 0.0);
       const double side = len2((rho - r_at) * cos_a, over);
       const double cap = len2(std::max(0.0, rho - c.r1), p.h - c.h1);
-      return std::min(side, cap);
+      // An open container (a pot, a cup, a bowl) shows its inner floor through its top.
+      const double floor = c.floor_h >= 0 && rho < r_at && p.h < c.h1 ? std::abs(p.h - c.floor_h) : 1e9;
+      return std::min({side, cap, floor});
     }
     case Model::torus: {
       const double rho = std::sqrt(da * da + db * db);
@@ -122,6 +126,42 @@ double distance(const Candidate& c, const Local& p) {
   return 1e9;
 }
 
+// A cylinder or cone open at the top (a pot, a mug, a bowl): the camera sees its inner
+// floor through the opening, up-facing points inside the side and well below the rim.
+// When they are at least 5 % of the points and lie in the lower third (a floor is near
+// the base), the solid gets that floor; a closed can shows no such points.
+void settle_inner_floor(Candidate& c, const Samples& s) {
+  if ((c.model != Model::cylinder && c.model != Model::cone) || !s.has_normals) return;
+  const double span = c.h1 - c.h0;
+  if (span <= 0) return;
+  std::vector<double> h;
+  for (size_t i = 0; i < s.p.size(); ++i) {
+    const Local& p = s.p[i];
+    if (s.up[i] < 0.8 || p.h > c.h1 - 3 * s.tol[i]) continue;
+    const double t = std::clamp((p.h - c.h0) / span, 0.0, 1.0);
+    const double r_at = c.r0 + (c.r1 - c.r0) * t;
+    if (len2(p.a - c.ca, p.b - c.cb) < r_at - s.tol[i]) h.push_back(p.h);
+  }
+  if (h.size() < 0.05 * s.p.size()) return;
+  std::nth_element(h.begin(), h.begin() + h.size() / 2, h.end());
+  const double floor = h[h.size() / 2];
+  if (floor < c.h0 + span / 3) c.floor_h = floor;
+}
+
+// A sphere is closed and convex: the camera sees only the half facing it, so a point on
+// its far half (outward normal pointing away from the camera by more than the noise) is
+// not a point of that sphere: it is the inside of a bowl, a cup or a pot, whose open top
+// shows the far inner wall.
+bool behind_sphere(const Candidate& c, const Local& p, const Local& eye, double tol) {
+  if (c.model != Model::sphere) return false;
+  const double ra = p.a - eye.a, rb = p.b - eye.b, rh = p.h - eye.h;  // the ray to p
+  const double ray = std::sqrt(ra * ra + rb * rb + rh * rh);
+  if (ray <= 0) return false;
+  // Depth of p behind the sphere's silhouette plane (through its centre, across the ray).
+  const double behind = ((p.a - c.ca) * ra + (p.b - c.cb) * rb + (p.h - c.hc) * rh) / ray;
+  return behind > tol;
+}
+
 // Inside the upper third of a box or cylinder: where lids, gables and caps sit.
 bool in_lid(const Candidate& c, const Local& p) {
   if (c.model != Model::box && c.model != Model::cylinder) return false;
@@ -145,7 +185,7 @@ void evaluate(Candidate& c, const Samples& s) {
     count[g] += 1;
     const double d = distance(c, s.p[i]);
     const double e = d / s.tol[i];
-    if (e < 1) {
+    if (e < 1 && !behind_sphere(c, s.p[i], s.eye, s.tol[i])) {
       score[g] += 1 - e * e;
       sq += d * d;
       covered[g] += 1;
@@ -828,6 +868,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
                              params.noise_factor * kinect_sigma_z(std::abs(p.z))));
   }
   if (s.p.size() < 12) return out;
+  s.eye = frame.to_local(Vec3{0, 0, 0});
   std::vector<double> hs;
   for (const Local& p : s.p) hs.push_back(p.h);
   s.top = quantile(hs, 0.99);
@@ -873,6 +914,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
         std::max(c.r0, c.r1) > std::max(width, 0.03))
       c.valid = false;
     if (!c.valid) continue;
+    settle_inner_floor(c, s);
     evaluate(c, s);
     settle_frustum(c, s, 2 * params.complexity_margin);
     out.candidates.push_back(to_fit(c, frame));
@@ -906,6 +948,22 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
       if (lying && any.facetedness < params.max_round_facetedness &&
           any.fit.coverage >= params.min_coverage && any.score > beat)
         any_axis = any.fit;
+    }
+  }
+  // A short wide cylinder on its rim (a tin on its edge, lid to the camera) is what a box
+  // would explain too; its outline seen along its axis is a circle, not a rectangle.
+  const bool box_wins = best < 0 || cands[best].coverage < params.min_coverage ||
+                        cands[best].model == Model::box;
+  if (!any_axis && box_wins) {
+    const DiscCylinderFit disc = fit_cylinder_on_rim(s.xyz, s.tol, params);
+    if (disc.cylinder.valid) {
+      out.candidates.push_back(disc.cylinder.fit);
+      const bool on_rim = std::abs(dot(disc.cylinder.fit.primitive.axis, frame.n)) < std::cos(kPi / 4);
+      const double rival = best >= 0 && cands[best].coverage >= params.min_coverage ? cands[best].coverage : 0.0;
+      if (on_rim && disc.round_outline >= params.min_round_outline &&
+          disc.cylinder.fit.coverage >= params.min_coverage &&
+          disc.cylinder.fit.coverage >= rival - params.complexity_margin)
+        any_axis = disc.cylinder.fit;
     }
   }
   if (any_axis) {

@@ -231,6 +231,8 @@ RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
     if (prims.empty()) text.append(" unknown");
     for (size_t j = 0; j < prims.size(); ++j)
       text.append(j == 0 ? " " : (j == 1 ? ", part " : ", ")).append(shape_name(prims[j].primitive.kind));
+    if (k < scan.scene.objects.size() && !scan.scene.objects[k].on_object.empty())
+      text.append(" on ").append(scan.scene.objects[k].on_object);
     if (partial) text.append(" partial");
     labels.push_back({std::move(text), col, top, bottom, left, right});
   }

@@ -681,6 +681,8 @@ void restack(ScanResult& result, std::vector<std::vector<Vec3>>& normals, const 
       result.clusters[group[g]].points = std::move(objects[g].points);
       normals[group[g]] = std::move(objects[g].normals);
       result.clusters[group[g]].shape = std::move(objects[g].shape);
+      if (objects[g].rests_on >= 0)
+        result.clusters[group[g]].on_object = static_cast<int>(group[objects[g].rests_on]);
     }
   }
 }
@@ -723,6 +725,14 @@ void order_and_name_objects(ScanResult& result) {
     objects.push_back(std::move(result.scene.objects[k]));
   }
   for (size_t k = 0; k < objects.size(); ++k) objects[k].id = std::to_string(k + 1).insert(0, 1, 'p');
+  // An object standing on another one names it by its new index and id.
+  std::vector<int> new_index(n, -1);
+  for (size_t k = 0; k < n; ++k) new_index[order[k]] = static_cast<int>(k);
+  for (size_t k = 0; k < n; ++k) {
+    int& below = clusters[k].on_object;
+    below = below >= 0 && below < static_cast<int>(n) ? new_index[static_cast<size_t>(below)] : -1;
+    objects[k].on_object = below >= 0 ? objects[static_cast<size_t>(below)].id : std::string();
+  }
   result.clusters = std::move(clusters);
   result.scene.objects = std::move(objects);
 }
@@ -1149,6 +1159,14 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
   });
   restack(result, normals, params);
+  // Which object stands on which, by one pixel of each: merging parts and joining
+  // occluded pieces below renumber the clusters, and a pixel stays with its object.
+  std::vector<std::pair<int, int>> stacked;
+  for (ScanCluster& sc : result.clusters) {
+    if (sc.on_object >= 0)
+      stacked.emplace_back(sc.pixels.front(), result.clusters[sc.on_object].pixels.front());
+    sc.on_object = -1;
+  }
   merge_parts(f, params, result, label, normals);
   if (params.join_occluded) {
     // Pieces of one object either side of a nearer one become one (occlusion_join.h).
@@ -1163,6 +1181,15 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
           sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape);
         },
         params.shape.min_coverage);
+  }
+  if (!stacked.empty()) {
+    std::fill(label.begin(), label.end(), -1);
+    for (size_t c = 0; c < result.clusters.size(); ++c)
+      for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
+    for (const auto& [upper, lower] : stacked) {
+      const int u = label[upper], l = label[lower];
+      if (u >= 0 && l >= 0 && u != l) result.clusters[u].on_object = l;
+    }
   }
   // The image border as the sensor sees it: the rectangle of rows and columns that
   // hold depth (a Kinect leaves a few invalid rows and columns at its edges).

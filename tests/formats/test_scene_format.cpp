@@ -67,6 +67,46 @@ TEST(SceneFormat, Version2CarriesSupportsPartialAndFrustums) {
   EXPECT_FALSE(validate_scene(scene, "v2.scene").ok());
 }
 
+TEST(SceneFormat, Version3CarriesObjectsStandingOnObjects) {
+  PhysicalScene scene;
+  scene.supports = {{"s1", Plane{{0, -1, 0}, 0.8}, 5000}};
+  scene.support = scene.supports[0].plane;
+  PhysicalObject lower, upper;
+  lower.id = "p1";
+  lower.support_id = "s1";
+  lower.primitives.push_back({ShapeKind::box, {0.2, 0.1, 0.3}, {0, 0.65, 1}, {0, -1, 0}, 0.9});
+  upper.id = "p2";
+  upper.support_id = "s1";  // the support under the stack
+  upper.on_object = "p1";
+  upper.primitives.push_back({ShapeKind::box, {0.1, 0.1, 0.1}, {0, 0.45, 1}, {0, -1, 0}, 0.9});
+  scene.objects = {lower, upper};
+  const std::string text = write_scene(scene);
+  EXPECT_EQ(text.rfind("annex-scene 3\n", 0), 0u) << text;
+  EXPECT_NE(text.find("object p2\n  on s1\n  on_object p1\n"), std::string::npos) << text;
+  auto back = parse_scene(text, "v3.scene");
+  ASSERT_TRUE(back.ok()) << back.error().format();
+  EXPECT_EQ(*back, scene);
+  EXPECT_TRUE(validate_scene(scene, "v3.scene").ok());
+  // An object standing on another comes before or after it in the file alike.
+  std::swap(scene.objects[0], scene.objects[1]);
+  back = parse_scene(write_scene(scene), "v3.scene");
+  ASSERT_TRUE(back.ok()) << back.error().format();
+  EXPECT_EQ(*back, scene);
+  // Without stacking the writer stays at version 2, which older readers take.
+  scene.objects[0].on_object.clear();
+  EXPECT_EQ(write_scene(scene).rfind("annex-scene 2\n", 0), 0u);
+  // The validator refuses what the reader would.
+  scene.objects[0].on_object = "p9";
+  auto st = validate_scene(scene, "scan");
+  ASSERT_FALSE(st.ok());
+  EXPECT_EQ(st.error().message, "object 'p2' stands on object 'p9', which the scene does not hold");
+  scene.objects[0].on_object = "p1";
+  scene.objects[1].on_object = "p2";
+  st = validate_scene(scene, "scan");
+  ASSERT_FALSE(st.ok());
+  EXPECT_EQ(st.error().message, "objects stand on each other in a loop (p2 on p1 on p2)");
+}
+
 TEST(SceneFormat, NoSupportGolden) {
   const std::string text = test::slurp(test::data_path("no_support.scene"));
   auto scene = parse_scene(text, "no_support.scene");
@@ -131,8 +171,20 @@ TEST(SceneFormat, InvalidInputsReportMessageLineAndColumn) {
       {"empty", "", 1, 1, "empty input; expected the header 'annex-scene 1'"},
       {"haptic header", "annex-haptic 1\n", 1, 1,
        "expected the header 'annex-scene 1', found 'annex-haptic' (this is a .haptic file)"},
-      {"future version", "annex-scene 3\n", 1, 13,
-       "unsupported format version 3; this reader knows versions 1 and 2"},
+      {"future version", "annex-scene 4\n", 1, 13,
+       "unsupported format version 4; this reader knows versions 1 to 3"},
+      {"v2 has no 'on_object'", "annex-scene 2\nobject a\n  on_object b\nend\nobject b\nend\n", 3, 3,
+       "'on_object' in object 'a' needs the header 'annex-scene 3'"},
+      {"v3 on an undeclared object", "annex-scene 3\nobject a\n  on_object b\nend\n", 3, 13,
+       "object 'a' stands on object 'b', which the file does not declare"},
+      {"v3 on itself", "annex-scene 3\nobject a\n  on_object a\nend\n", 3, 13,
+       "object 'a' cannot stand on itself"},
+      {"v3 stacking loop",
+       "annex-scene 3\nobject a\n  on_object b\nend\nobject b\n  on_object a\nend\n", 3, 13,
+       "objects stand on each other in a loop (a on b on a)"},
+      {"v3 duplicate on_object",
+       "annex-scene 3\nobject b\nend\nobject a\n  on_object b\n  on_object b\nend\n", 6, 3,
+       "duplicate key 'on_object' in object 'a' (first at line 5)"},
       {"v2 support without id", "annex-scene 2\nsupport 0 1 0 0\n", 2, 9,
        "invalid support id '0'; a name starts with a letter or '_' and continues with letters, "
        "digits, '_', '.' or '-'"},

@@ -32,6 +32,9 @@ struct PhysicalObject {
   double fit = 0.0;  // quality of the salient fit, [0, 1]
   // The support it stands on (PhysicalScene::supports id); empty when unknown.
   std::string support_id;
+  // The object whose top it stands on (its id: a box on a box, a jar on a tin); empty
+  // when it stands on the support itself. `support_id` stays the support under the stack.
+  std::string on_object;
   // Seen only in part (cut by the image border, or too few points to tell its shape):
   // a poor prop, which does not vote unless asked (MatchParams::partial_objects_vote).
   bool partial = false;

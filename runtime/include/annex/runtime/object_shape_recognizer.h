@@ -39,6 +39,11 @@ struct ShapeRecognizerParams {
   // A cylinder in any orientation needs its side normals spread round its axis: the
   // |mean of e^(4i psi)| of their angles below this (two faces of a box give ~1).
   double max_round_facetedness = 0.5;
+  // A cylinder standing on its rim (a tin on its edge, lid to the camera) needs the
+  // outline of its points seen along its axis to be a circle: this share of the
+  // outline's directions on the fitted circle (a square's outline puts about 0.3 there,
+  // a circle all but the arc the table cuts off).
+  double min_round_outline = 0.6;
   // At most this many points enter the fits (a deterministic subsample).
   int max_fit_points = 800;
   std::uint64_t seed = 1;

@@ -138,6 +138,7 @@ struct ScanCluster {
   std::vector<Vec3> points;    // smoothed points used for the fits
   ObjectShape shape;
   Plane support;               // the plane it stands on
+  int on_object = -1;          // index of the object whose top it stands on, -1: the support
 };
 
 // A support found in the frame, with its hull (on its plane) for overlays.
