@@ -161,6 +161,15 @@ class Visibility {
     const float z = observed(p);
     return std::isfinite(z) && z < p.z() - margin;
   }
+  // p projects outside the image: the camera cannot tell whether it is there.
+  bool outside(const Eigen::Vector3d& p) const {
+    if (!view_) return false;
+    if (p.z() <= 0.05) return true;
+    const CameraIntrinsics& k = view_->camera;
+    const long u = std::lround(k.fx * p.x() / p.z() + k.cx);
+    const long v = std::lround(k.fy * p.y() / p.z() + k.cy);
+    return u < 0 || v < 0 || u >= view_->frame->width || v >= view_->frame->height;
+  }
   // The camera saw through p: what it saw at p's pixel is farther than `margin` behind.
   bool in_free_space(const Eigen::Vector3d& p, double margin) const {
     const float z = observed(p);
@@ -241,7 +250,7 @@ IcpResult track_icp(const TrackingModel& model, const TargetCloud& target, const
     const double hide_margin = std::max(params.occlusion_margin_m, max_d);
     for (size_t i = 0; i < model.points.size(); ++i) {
       const Eigen::Vector3d p = rot * ev(model.points[i]) + t;
-      if (visibility.hidden(p, hide_margin)) continue;
+      if (visibility.outside(p) || visibility.hidden(p, hide_margin)) continue;
       // A model point where the camera saw through (past the prop's end, say) is pulled
       // back onto the nearest data point-to-point, from the full starting distance:
       // point-to-plane alone lets a partial view slide along its surface.
@@ -283,14 +292,20 @@ IcpResult track_icp(const TrackingModel& model, const TargetCloud& target, const
     if (moved < params.convergence_m && max_d <= params.final_correspondence_m) break;
   }
 
-  // Fitness, coverage and RMS at the final pose.
-  int facing = 0, seen = 0, inliers = 0;
+  // Fitness, coverage and RMS at the final pose. Points outside the image are neither
+  // seen nor hidden: a prop leaving the view is judged on its part still in it (the
+  // confidence, over all facing points, drops with what left).
+  int facing = 0, outside = 0, seen = 0, inliers = 0;
   double sum2 = 0;
   const double hide_margin = std::max(params.occlusion_margin_m, params.inlier_m);
   for (size_t i = 0; i < model.points.size(); ++i) {
     const Eigen::Vector3d p = rot * ev(model.points[i]) + t;
     if (!visibility.facing(i, rot, p)) continue;
     ++facing;
+    if (visibility.outside(p)) {
+      ++outside;
+      continue;
+    }
     if (visibility.hidden(p, hide_margin)) continue;
     ++seen;
     const int j = tree.nearest(vv(p), params.inlier_m);
@@ -306,13 +321,14 @@ IcpResult track_icp(const TrackingModel& model, const TargetCloud& target, const
   }
   result.pose = {vv(t), to_quat(rot)};
   result.fitness = seen > 0 ? static_cast<double>(inliers) / seen : 0;
-  result.coverage = facing > 0 ? static_cast<double>(seen) / facing : 0;
+  result.coverage = facing > outside ? static_cast<double>(seen) / (facing - outside) : 0;
   result.confidence = facing > 0 ? static_cast<double>(inliers) / facing : 0;
   result.rms_m = inliers > 0 ? std::sqrt(sum2 / inliers) : 0;
   const double step = norm(result.pose.position - initial.position);
   const double turn = rotation_angle_deg(initial.rotation, result.pose.rotation);
   // Too few points facing the camera (a model turned edge-on) tells nothing either.
-  const bool enough = facing >= std::min<int>(30, static_cast<int>(model.points.size()) / 4 + 1);
+  const int least = std::min<int>(30, static_cast<int>(model.points.size()) / 4 + 1);
+  const bool enough = facing >= least && seen >= least;
   result.ok = enough && result.fitness >= params.min_fitness &&
               result.coverage >= params.min_coverage && result.rms_m <= params.max_rms_m &&
               step <= params.max_step_m && turn <= params.max_step_deg;

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "annex/runtime/rigid_motion.h"
+#include "annex/runtime/track_model_completion.h"
 
 namespace annex {
 namespace {
@@ -90,7 +91,7 @@ std::optional<DepthView> depth_view(const TrackingInput& input) {
 }  // namespace
 
 ObjectTrack start_track(ShapeKind kind, const std::vector<Vec3>& cluster_points,
-                        const Pose& object_pose, int max_points) {
+                        const Pose& object_pose, int max_points, bool complete) {
   auto model = std::make_shared<TrackingModel>();
   model->kind = kind;
   model->symmetry = symmetry_of(kind);
@@ -113,6 +114,8 @@ ObjectTrack start_track(ShapeKind kind, const std::vector<Vec3>& cluster_points,
     sensor_points.push_back(object_pose.position + rotate(object_pose.rotation, m));
   for (const Vec3& n : model_normals(sensor_points, cluster_points, {0, 0, 0}))
     model->normals.push_back(rotate(inv, n));
+  // A box's faces the view lacks, from its centre and the offsets of the faces it shows.
+  if (complete) complete_tracking_model(*model);
   ObjectTrack track;
   track.model = std::move(model);
   track.pose = object_pose;

@@ -72,7 +72,7 @@ struct IcpResult {
   // a partner within inlier_m: what decides acceptance.
   double fitness = 0;
   double rms_m = 0;       // RMS point-to-plane distance of those partners
-  double coverage = 1;    // share of the facing model points that are not hidden
+  double coverage = 1;    // share of the facing model points in the image that are not hidden
   double confidence = 0;  // fitness x coverage: share of the facing points explained
   int iterations = 0;
 };

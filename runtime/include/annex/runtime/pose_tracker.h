@@ -97,8 +97,9 @@ ObjectTrack reanchor_track(const ObjectTrack& track, const PhysicalPrimitive& de
 
 // A track for a freshly matched object: its model from the cluster's points (sensor
 // frame) expressed in `object_pose`, subsampled to at most `max_points`, with normals
-// from each point's neighbours, oriented towards the sensor.
+// from each point's neighbours, oriented towards the sensor; a box's faces the view
+// lacks are added unless `complete` is false (track_model_completion.h).
 ObjectTrack start_track(ShapeKind kind, const std::vector<Vec3>& cluster_points,
-                        const Pose& object_pose, int max_points = 600);
+                        const Pose& object_pose, int max_points = 600, bool complete = true);
 
 }  // namespace annex
