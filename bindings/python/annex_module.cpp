@@ -135,7 +135,11 @@ PyAnnexed annexed(const annex::HapticSpec& spec, const annex::AnnexedObject& o) 
   q[3] = p.rotation.z;
   x.scale = vec(p.scale);
   x.matrix = py::array_t<double>({4, 4});
-  for (int i = 0; i < 16; ++i) x.matrix.mutable_data()[i] = a.m[i];
+  // Affine holds the top three rows (row-major 3x4); the fourth is 0 0 0 1.
+  double* m = x.matrix.mutable_data();
+  for (int i = 0; i < 12; ++i) m[i] = a.m[static_cast<size_t>(i)];
+  m[12] = m[13] = m[14] = 0;
+  m[15] = 1;
   return x;
 }
 

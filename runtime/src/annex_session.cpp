@@ -141,8 +141,10 @@ struct AnnexSession::Workers {
   std::unique_ptr<ScanWorker> scanner;  // ScanMode::background only
   explicit Workers(const SessionParams& p)
       : trackers(p.threads),
-        scanner(p.scan_mode == ScanMode::background ? std::make_unique<ScanWorker>(p.scan, p.scan_nice)
-                                                    : nullptr) {}
+        scanner(p.scan_mode == ScanMode::background
+                    ? std::make_unique<ScanWorker>(p.scan, p.scan_priority, p.scan_nice,
+                                                   p.scan_every)
+                    : nullptr) {}
 };
 
 AnnexSession::AnnexSession(HapticSpec spec, SessionParams params)
@@ -268,6 +270,7 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
       tracked[i] = track_step(*tracks[i], inputs[i], params_.tracker);
     });
   ScanWorker* background = workers_->scanner.get();
+  if (background) report.scan_promoted = background->tick();
   const bool start_background = scan_due && background && !background->busy();
   if (start_background) {
     background->stage(frame, frame_index);

@@ -108,6 +108,7 @@ def test_session_tracks_the_recording():
             assert o.matrix.shape == (4, 4)
             # The matrix maps the model origin to the pose's position.
             assert np.allclose(o.matrix[:3, 3], o.position)
+            assert np.array_equal(o.matrix[3], [0.0, 0.0, 0.0, 1.0])
             assert 0.0 <= o.confidence <= 1.0
     assert len(frames()) == 4
 

@@ -28,6 +28,8 @@ namespace annex {
 // and process() returns as soon as tracking is done; the result applies at the first
 // frame after the scan finished, so a frame never waits for a scan (render loops).
 enum class ScanMode { same_frame, background };
+// The background scan worker's priority: SessionParams::scan_priority.
+enum class ScanPriority { idle, nice };
 
 struct SessionParams {
   ScanParams scan;
@@ -39,8 +41,15 @@ struct SessionParams {
   double same_prop_m = 0.06;      // a scanned object this close to a tracked one is that prop
   int model_points = 600;         // source model size per object
   ScanMode scan_mode = ScanMode::same_frame;
-  // background: the scan worker's niceness (Linux, 0 to 19). A scan is background work:
-  // on a busy machine the render loop's threads come first and the scan applies later.
+  // background: the scan worker's CPU priority (Linux). A scan is background work: the
+  // render loop's threads come first, and on a busy machine the scan applies later.
+  // idle: SCHED_IDLE, the scan runs only on a core nothing else wants (the idle time
+  // between pushes) and any other thread preempts it at once; a scan not done scan_every
+  // pushes after it started is promoted to niceness scan_nice until it ends, so a machine
+  // with no idle core still gets scans (FrameReport::scan_promoted). Leaving SCHED_IDLE
+  // needs CAP_SYS_NICE or RLIMIT_NICE >= 20 - scan_nice; without either the worker runs
+  // at niceness scan_nice, as with nice: a smaller share of a busy core.
+  ScanPriority scan_priority = ScanPriority::idle;
   int scan_nice = 10;
   // The depth camera's intrinsics when known; otherwise they are estimated from the
   // first organized frame (until then a tracker's target cube is cut by a full scan).
@@ -96,6 +105,10 @@ struct FrameReport {
   int scan_frame_index = -1;  // the frame that scan was taken from (background: an earlier one)
   std::optional<Error> scan_error;  // the scan of this frame failed (no plane...)
   std::optional<ScanResult> scan;   // when scanned and successful
+  // background, ScanPriority::idle: the running scan was still not done scan_every pushes
+  // after it started (the machine had no idle core for it), so it was promoted from
+  // SCHED_IDLE to niceness scan_nice on this push.
+  bool scan_promoted = false;
   // When a match ran this frame (some virtual object voted): the scene it voted on
   // (tracked props renamed to their stable ids) and the result.
   std::optional<PhysicalScene> match_scene;
