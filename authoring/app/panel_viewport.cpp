@@ -163,8 +163,9 @@ struct DepthBuffer {
 // facing the camera, sampled evenly by area and kept where no nearer part of the mesh
 // hides them. Taking every vertex whose projection falls inside (as a screen test
 // alone does) adds the bottom disc and the back, whose outline perspective cuts at
-// another height, and tilts and widens the fit.
-void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b) {
+// another height, and tilts and widens the fit. Selecting through (like Blender's
+// X-ray box select) keeps them, for a part hidden behind another.
+void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b, bool through) {
   ui.box_start = a;
   ui.box_end = b;
   const Rect& vp = ui.layout.viewport;
@@ -205,7 +206,7 @@ void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b) {
     const ScreenPoint& pa = screen[mesh->indices[3 * t]];
     const ScreenPoint& pb = screen[mesh->indices[3 * t + 1]];
     const ScreenPoint& pc = screen[mesh->indices[3 * t + 2]];
-    if (pa.ok && pb.ok && pc.ok) depth.add_triangle(pa, pb, pc);
+    if (!through && pa.ok && pb.ok && pc.ok) depth.add_triangle(pa, pb, pc);
   }
   // Samples about one per two pixels of the mesh's size on screen.
   glm::vec3 lo(mesh->min.x, mesh->min.y, mesh->min.z), hi(mesh->max.x, mesh->max.y, mesh->max.z);
@@ -233,7 +234,7 @@ void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b) {
                        mesh->normals[3 * ia + 2] + mesh->normals[3 * ib + 2] +
                            mesh->normals[3 * ic + 2]);
     const glm::vec3 outward = glm::dot(vn, unit) < 0 ? -unit : unit;
-    if (glm::dot(outward, eye - (A + B + C) / 3.f) <= 0) continue;
+    if (!through && glm::dot(outward, eye - (A + B + C) / 3.f) <= 0) continue;
     const ScreenPoint &pa = screen[ia], &pb = screen[ib], &pc = screen[ic];
     if (!pa.ok || !pb.ok || !pc.ok) continue;
     if (std::max({pa.x, pb.x, pc.x}) < x0 || std::min({pa.x, pb.x, pc.x}) > x1 ||
@@ -251,15 +252,15 @@ void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b) {
       const ScreenPoint s = to_screen(mvp, vp, p);
       if (!s.ok || s.x < x0 || s.x > x1 || s.y < y0 || s.y > y1) continue;
       // Hidden when a nearer surface covers it by more than 1 % of its distance.
-      if (s.inv_w < depth.at(s.x, s.y) * 0.99f) continue;
+      if (!through && s.inv_w < depth.at(s.x, s.y) * 0.99f) continue;
       ui.box_points.push_back({p.x, p.y, p.z});
       ui.box_normals.push_back({outward.x, outward.y, outward.z});
     }
   }
-  char buf[120];
-  std::snprintf(buf, sizeof buf,
-                "Box selection: %zu points of the visible surface (Inspector > Fit to selection).",
-                ui.box_points.size());
+  char buf[140];
+  std::snprintf(buf, sizeof buf, "Box selection: %zu points of the %s (Inspector > Fit to selection).",
+                ui.box_points.size(),
+                through ? "surface through the whole depth" : "visible surface");
   ui.status = buf;
 }
 
@@ -359,6 +360,7 @@ void draw_viewport(const EditorDocument& doc, UiState& ui, CommandQueue& queue) 
                  sel};
     } else if (io.KeyCtrl) {
       ui.box_dragging = true;
+      ui.box_through = io.KeyShift || ui.box_select_through;
       ui.box_start = ui.box_end = mouse;
     } else {
       ui.orbiting = true;
@@ -408,7 +410,7 @@ void draw_viewport(const EditorDocument& doc, UiState& ui, CommandQueue& queue) 
     ui.box_end = mouse;
     if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
       ui.box_dragging = false;
-      select_box(doc, ui, ui.box_start, ui.box_end);
+      select_box(doc, ui, ui.box_start, ui.box_end, ui.box_through);
     }
   }
   if (hover_view && io.MouseWheel != 0)
