@@ -481,12 +481,22 @@ void draw_viewport(const EditorDocument& doc, UiState& ui, CommandQueue& queue) 
   std::size_t tris = 0;
   for (const Placement& p : placed)
     if (const MeshData* m = doc.mesh_for(p.object)) tris += m->triangle_count();
+  // The hints on one line and, under them, the status wrapped to the viewport's width,
+  // so a long status (a box selection's count) is never cut at 1280x720.
   char line[320];
-  std::snprintf(
-      line, sizeof line,
-      "%zu triangles   %.1f ms/frame   LMB orbit, RMB pan, wheel zoom, Ctrl+LMB box select   %s",
-      tris, ui.frame_ms, ui.status.c_str());
-  dl->AddText(ImVec2(vp.x + 10, vp.y + vp.h - 22), IM_COL32(200, 200, 200, 230), line);
+  std::snprintf(line, sizeof line,
+                "%zu triangles   %.1f ms/frame   LMB orbit, RMB pan, wheel zoom, Ctrl+LMB box "
+                "select (+Shift: through)",
+                tris, ui.frame_ms);
+  const float wrap = std::max(50.f, vp.w - 20);
+  const float status_h =
+      ui.status.empty() ? 0.f : ImGui::CalcTextSize(ui.status.c_str(), nullptr, false, wrap).y;
+  const float line_h = ImGui::GetTextLineHeight();
+  const float bottom = vp.y + vp.h - 6;
+  if (!ui.status.empty())
+    dl->AddText(ImGui::GetFont(), ImGui::GetFontSize(), ImVec2(vp.x + 10, bottom - status_h),
+                IM_COL32(200, 200, 200, 230), ui.status.c_str(), nullptr, wrap);
+  dl->AddText(ImVec2(vp.x + 10, bottom - status_h - line_h), IM_COL32(200, 200, 200, 230), line);
   dl->PopClipRect();
 }
 
