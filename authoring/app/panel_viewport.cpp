@@ -310,22 +310,33 @@ void draw_toolbar(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
                                  ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
                                  ImGuiWindowFlags_NoMove;
   if (ImGui::Begin("##viewport_toolbar", nullptr, flags)) {
+    // Items go on one line while it fits in the viewport, then on the next (1280x720).
+    const ImGuiStyle& style = ImGui::GetStyle();
+    const float right_edge = ui.layout.viewport.x + ui.layout.viewport.w - 16;
+    const float box = ImGui::GetFrameHeight() + style.ItemInnerSpacing.x;  // radio, checkbox
+    const float pad = 2 * style.FramePadding.x;                            // button
+    auto beside = [&](const char* next, float extra) {
+      if (ImGui::GetItemRectMax().x + style.ItemSpacing.x + ImGui::CalcTextSize(next).x + extra +
+              style.WindowPadding.x <=
+          right_edge)
+        ImGui::SameLine();
+    };
     int mode = static_cast<int>(ui.gizmo);
     ImGui::RadioButton("Move (W)", &mode, 0);
-    ImGui::SameLine();
+    beside("Rotate (E)", box);
     ImGui::RadioButton("Rotate (E)", &mode, 1);
-    ImGui::SameLine();
+    beside("Size (R)", box);
     ImGui::RadioButton("Size (R)", &mode, 2);
     ui.gizmo = static_cast<GizmoMode>(mode);
-    ImGui::SameLine();
+    beside("Frame all (F)", pad);
     if (ImGui::Button("Frame all (F)")) queue.request(AppAction::Kind::fit_view);
-    ImGui::SameLine();
+    beside("Frame selected", pad);
     ImGui::BeginDisabled(doc.selection().object < 0);
     if (ImGui::Button("Frame selected")) frame_selected(doc, ui);
     ImGui::EndDisabled();
-    ImGui::SameLine();
+    beside("wireframes", box);
     ImGui::Checkbox("wireframes", &ui.show_wireframes);
-    ImGui::SameLine();
+    beside("limits preview", box);
     ImGui::Checkbox("limits preview", &ui.limits_preview);
   }
   ImGui::End();
