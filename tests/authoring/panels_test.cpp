@@ -81,6 +81,20 @@ class HeadlessPanels : public ::testing::Test {
     return std::nullopt;
   }
 
+  // Ctrl (+ Shift: select through) and a left drag from `from` to `to` in five steps, as
+  // a person's box selection arrives frame by frame.
+  void box_drag(ImVec2 from, ImVec2 to, bool shift = false) {
+    ImGui::GetIO().KeyCtrl = true;
+    ImGui::GetIO().KeyShift = shift;
+    frame(from, false);
+    frame(from, true);
+    for (int i = 1; i <= 4; ++i)
+      frame(ImVec2(from.x + (to.x - from.x) * i / 4, from.y + (to.y - from.y) * i / 4), true);
+    frame(to, false);
+    ImGui::GetIO().KeyCtrl = false;
+    ImGui::GetIO().KeyShift = false;
+  }
+
   // Presses and releases the left button at `at`; returns the app actions requested.
   std::vector<AppAction> click(ImVec2 at) {
     frame(at, true);
@@ -361,13 +375,7 @@ TEST_F(HeadlessPanels, TutorialBoxSelectionByHandFitsTheBody) {
   const ImVec2 from(left - 12, bottom + 12), to(right + 12, mark.y);
   ASSERT_TRUE(vp.contains(from) && vp.contains(to));
 
-  ImGui::GetIO().KeyCtrl = true;
-  frame(from, false);
-  frame(from, true);
-  for (int i = 1; i <= 4; ++i)
-    frame(ImVec2(from.x + (to.x - from.x) * i / 4, from.y + (to.y - from.y) * i / 4), true);
-  frame(to, false);
-  ImGui::GetIO().KeyCtrl = false;
+  box_drag(from, to);
   ASSERT_GT(ui.box_points.size(), 200u) << ui.status;
 
   const std::string label =
@@ -397,15 +405,7 @@ TEST_F(HeadlessPanels, TutorialBoxSelectionByHandFitsTheBody) {
   ImVec2 top;
   ASSERT_TRUE(project(mvp, vp, glm::vec3(0, 0.3f, 0), top));
   const ImVec2 neck_from(left - 12, mark.y - 2), neck_to(right + 12, top.y - 12);
-  ImGui::GetIO().KeyCtrl = true;
-  frame(neck_from, false);
-  frame(neck_from, true);
-  for (int i = 1; i <= 4; ++i)
-    frame(ImVec2(neck_from.x + (neck_to.x - neck_from.x) * i / 4,
-                 neck_from.y + (neck_to.y - neck_from.y) * i / 4),
-          true);
-  frame(neck_to, false);
-  ImGui::GetIO().KeyCtrl = false;
+  box_drag(neck_from, neck_to);
   const std::string neck_label =
       "Fit to box selection (" + std::to_string(ui.box_points.size()) + " points)";
   const auto fit_neck = locate("Inspector", neck_label.c_str());
@@ -511,23 +511,12 @@ TEST_F(HeadlessPanels, BoxSelectionTakesTheVisibleSurfaceOrSelectsThrough) {
     away = n ? static_cast<double>(a) / n : 0;
     hidden = tested ? static_cast<double>(h) / tested : 0;
   };
-  auto drag = [&](bool shift) {
-    ImGui::GetIO().KeyCtrl = true;
-    ImGui::GetIO().KeyShift = shift;
-    frame(from, false);
-    frame(from, true);
-    for (int i = 1; i <= 4; ++i)
-      frame(ImVec2(from.x + (to.x - from.x) * i / 4, from.y + (to.y - from.y) * i / 4), true);
-    frame(to, false);
-    ImGui::GetIO().KeyCtrl = false;
-    ImGui::GetIO().KeyShift = false;
-  };
   std::size_t seen_n = 0, through_n = 0;
   double seen_away = 0, seen_hidden = 0, through_away = 0, through_hidden = 0;
-  drag(false);
+  box_drag(from, to);
   measure(seen_n, seen_away, seen_hidden);
   EXPECT_NE(ui.status.find("visible surface"), std::string::npos) << ui.status;
-  drag(true);
+  box_drag(from, to, true);
   measure(through_n, through_away, through_hidden);
   EXPECT_NE(ui.status.find("through the whole depth"), std::string::npos) << ui.status;
   std::printf("visible: %zu points, %.3f facing away, %.3f hidden; through: %zu points, %.3f "
@@ -542,7 +531,7 @@ TEST_F(HeadlessPanels, BoxSelectionTakesTheVisibleSurfaceOrSelectsThrough) {
 
   // View > Box select through makes a plain Ctrl+drag select through.
   ui.box_select_through = true;
-  drag(false);
+  box_drag(from, to);
   EXPECT_EQ(ui.box_points.size(), through_n);
 }
 
