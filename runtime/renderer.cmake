@@ -17,5 +17,6 @@ target_link_libraries(annex_renderer
   PUBLIC annex::common annex::formats annex::mesh
   PRIVATE OpenGL::OpenGL OpenGL::EGL glfw annex::flags)
 
-target_sources(annex-runtime PRIVATE ${CMAKE_CURRENT_LIST_DIR}/app/cmd_render.cpp)
+target_sources(annex-runtime PRIVATE ${CMAKE_CURRENT_LIST_DIR}/app/cmd_render.cpp
+                                      ${CMAKE_CURRENT_LIST_DIR}/app/label_points.cpp)
 target_link_libraries(annex-runtime PRIVATE annex::renderer)

@@ -423,11 +423,12 @@ bool EditorApp::run_view_command(const ScriptLine& line) {
       fail("usage: gizmo move|rotate|size");
   } else if (verb == "box_select") {
     double v[4];
+    const bool through = w.size() == 6 && w[5] == "through";
     for (int k = 0; k < 4; ++k)
-      if (w.size() != 5 || !parse_double(w[1 + k], v[k]))
-        return fail("usage: box_select X0 Y0 X1 Y1 (window pixels)"), true;
+      if ((w.size() != 5 && !through) || !parse_double(w[1 + k], v[k]))
+        return fail("usage: box_select X0 Y0 X1 Y1 [through] (window pixels)"), true;
     select_box(doc_, ui_, ImVec2(static_cast<float>(v[0]), static_cast<float>(v[1])),
-               ImVec2(static_cast<float>(v[2]), static_cast<float>(v[3])));
+               ImVec2(static_cast<float>(v[2]), static_cast<float>(v[3])), through);
     std::cout << ui_.status << "\n";
   } else if (verb == "fit_selection") {
     const Selection s = doc_.selection();

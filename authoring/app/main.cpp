@@ -1,6 +1,7 @@
 // annex-author: the HapticModelGenerator editor (docs/editor.md). The loop is the one
 // of Dear ImGui's examples/example_glfw_opengl3/main.cpp; the editor lives in the
 // panels (one per file) and EditorApp, which applies their commands after the frame.
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -51,8 +52,16 @@ int main(int argc, char** argv) {
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
   glfwWindowHint(GLFW_SAMPLES, options->samples);
-  GLFWwindow* window =
-      glfwCreateWindow(options->width, options->height, "Annex author", nullptr, nullptr);
+  // Opened by a person, the window fits the screen's work area (a 1280x720 laptop
+  // screen would cut the 1600x900 default's right panels); scripts keep their --size.
+  int width = options->width, height = options->height;
+  if (options->script_path.empty())
+    if (GLFWmonitor* monitor = glfwGetPrimaryMonitor()) {
+      int x = 0, y = 0, w = 0, h = 0;
+      glfwGetMonitorWorkarea(monitor, &x, &y, &w, &h);
+      if (w > 0 && h > 0) width = std::min(width, w), height = std::min(height, h);
+    }
+  GLFWwindow* window = glfwCreateWindow(width, height, "Annex author", nullptr, nullptr);
   if (window == nullptr) {
     std::fprintf(stderr, "annex-author: error: cannot open an OpenGL 3.3 core window\n");
     glfwTerminate();

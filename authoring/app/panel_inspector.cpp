@@ -111,7 +111,10 @@ void draw_fit(const EditorDocument& doc, UiState& ui, CommandQueue& queue, int o
       "Fit to box selection (" + std::to_string(have_box ? ui.box_points.size() : 0) + " points)";
   if (ImGui::Button(box_label.c_str())) fit_to(ui.box_points, ui.box_normals);
   ImGui::EndDisabled();
-  ImGui::TextDisabled("Ctrl + drag in the viewport selects the surface you see.");
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+  ImGui::TextWrapped("Ctrl + drag in the viewport selects the surface you see; Ctrl + Shift + "
+                     "drag selects through (the back and hidden parts too).");
+  ImGui::PopStyleColor();
 }
 
 void draw_primitive(const EditorDocument& doc, UiState& ui, CommandQueue& queue, int o, int p) {
@@ -188,6 +191,11 @@ void draw_inspector(const EditorDocument& doc, UiState& ui, CommandQueue& queue)
     ImGui::End();
     return;
   }
+  // Text wraps at the panel's visible right edge: with the horizontal scrollbar (a long
+  // mesh path), TextWrapped alone wraps at the content's width, off screen.
+  const ImGuiStyle& style = ImGui::GetStyle();
+  ImGui::PushTextWrapPos(ImGui::GetScrollX() + ImGui::GetWindowWidth() - style.WindowPadding.x -
+                         style.ScrollbarSize);
   ImGui::PushItemWidth(-150);
   const Selection sel = doc.selection();
   if (sel.object < 0) {
@@ -228,6 +236,7 @@ void draw_inspector(const EditorDocument& doc, UiState& ui, CommandQueue& queue)
     ImGui::TextWrapped("%s", w.c_str());
     ImGui::PopStyleColor();
   }
+  ImGui::PopTextWrapPos();
   ImGui::End();
 }
 

@@ -3,6 +3,8 @@
 // the Hungarian assignment. Recomputed whenever the document or scene changes.
 #include <cstdio>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "panels.h"
 
@@ -17,15 +19,17 @@ void refresh(const EditorDocument& doc, UiState& ui) {
   ui.preview_dirty = false;
 }
 
-std::string terms_text(const VoteExplanation& e) {
-  std::string s;
+// One line per dimension: ImGui wraps after a '.', so one long line would break inside
+// a number ("w0." / "50") in a narrow column.
+std::vector<std::string> terms_lines(const VoteExplanation& e) {
+  std::vector<std::string> lines;
   char buf[160];
   for (const DimensionTerm& t : e.terms) {
-    std::snprintf(buf, sizeof buf, "%s%s %.1f/%.1f cm x%.2f w%.2f", s.empty() ? "" : ",  ",
-                  t.name.c_str(), t.virtual_m * 100, t.physical_m * 100, t.ratio, t.weight);
-    s += buf;
+    std::snprintf(buf, sizeof buf, "%s %.1f/%.1f cm x%.2f w%.2f", t.name.c_str(),
+                  t.virtual_m * 100, t.physical_m * 100, t.ratio, t.weight);
+    lines.push_back(buf);
   }
-  return s;
+  return lines;
 }
 
 }  // namespace
@@ -131,7 +135,7 @@ void draw_match_preview(const EditorDocument& doc, UiState& ui, CommandQueue& qu
           else
             ImGui::TextDisabled("no shared shape");
           ImGui::TableNextColumn();
-          if (!e.terms.empty()) ImGui::TextWrapped("%s", terms_text(e).c_str());
+          for (const std::string& line : terms_lines(e)) ImGui::TextUnformatted(line.c_str());
         }
         ImGui::EndTable();
       }

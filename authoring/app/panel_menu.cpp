@@ -92,6 +92,7 @@ void draw_menu_bar(const EditorDocument& doc, UiState& ui, CommandQueue& queue) 
     ImGui::MenuItem("Grid", nullptr, &ui.show_grid);
     ImGui::MenuItem("Primitive wireframes", nullptr, &ui.show_wireframes);
     ImGui::MenuItem("Scaling-limits preview", nullptr, &ui.limits_preview);
+    ImGui::MenuItem("Box select through", "Ctrl+Shift+drag", &ui.box_select_through);
     if (ImGui::MenuItem("Frame all", "F")) queue.request(AppAction::Kind::fit_view);
     if (ImGui::MenuItem("Frame selected", "Shift+F", false, doc.selection().object >= 0))
       frame_selected(doc, ui);

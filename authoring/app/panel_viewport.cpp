@@ -163,8 +163,9 @@ struct DepthBuffer {
 // facing the camera, sampled evenly by area and kept where no nearer part of the mesh
 // hides them. Taking every vertex whose projection falls inside (as a screen test
 // alone does) adds the bottom disc and the back, whose outline perspective cuts at
-// another height, and tilts and widens the fit.
-void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b) {
+// another height, and tilts and widens the fit. Selecting through (like Blender's
+// X-ray box select) keeps them, for a part hidden behind another.
+void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b, bool through) {
   ui.box_start = a;
   ui.box_end = b;
   const Rect& vp = ui.layout.viewport;
@@ -205,7 +206,7 @@ void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b) {
     const ScreenPoint& pa = screen[mesh->indices[3 * t]];
     const ScreenPoint& pb = screen[mesh->indices[3 * t + 1]];
     const ScreenPoint& pc = screen[mesh->indices[3 * t + 2]];
-    if (pa.ok && pb.ok && pc.ok) depth.add_triangle(pa, pb, pc);
+    if (!through && pa.ok && pb.ok && pc.ok) depth.add_triangle(pa, pb, pc);
   }
   // Samples about one per two pixels of the mesh's size on screen.
   glm::vec3 lo(mesh->min.x, mesh->min.y, mesh->min.z), hi(mesh->max.x, mesh->max.y, mesh->max.z);
@@ -233,7 +234,7 @@ void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b) {
                        mesh->normals[3 * ia + 2] + mesh->normals[3 * ib + 2] +
                            mesh->normals[3 * ic + 2]);
     const glm::vec3 outward = glm::dot(vn, unit) < 0 ? -unit : unit;
-    if (glm::dot(outward, eye - (A + B + C) / 3.f) <= 0) continue;
+    if (!through && glm::dot(outward, eye - (A + B + C) / 3.f) <= 0) continue;
     const ScreenPoint &pa = screen[ia], &pb = screen[ib], &pc = screen[ic];
     if (!pa.ok || !pb.ok || !pc.ok) continue;
     if (std::max({pa.x, pb.x, pc.x}) < x0 || std::min({pa.x, pb.x, pc.x}) > x1 ||
@@ -251,15 +252,15 @@ void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b) {
       const ScreenPoint s = to_screen(mvp, vp, p);
       if (!s.ok || s.x < x0 || s.x > x1 || s.y < y0 || s.y > y1) continue;
       // Hidden when a nearer surface covers it by more than 1 % of its distance.
-      if (s.inv_w < depth.at(s.x, s.y) * 0.99f) continue;
+      if (!through && s.inv_w < depth.at(s.x, s.y) * 0.99f) continue;
       ui.box_points.push_back({p.x, p.y, p.z});
       ui.box_normals.push_back({outward.x, outward.y, outward.z});
     }
   }
-  char buf[120];
-  std::snprintf(buf, sizeof buf,
-                "Box selection: %zu points of the visible surface (Inspector > Fit to selection).",
-                ui.box_points.size());
+  char buf[140];
+  std::snprintf(buf, sizeof buf, "Box selection: %zu points of the %s (Inspector > Fit to selection).",
+                ui.box_points.size(),
+                through ? "surface through the whole depth" : "visible surface");
   ui.status = buf;
 }
 
@@ -309,22 +310,33 @@ void draw_toolbar(const EditorDocument& doc, UiState& ui, CommandQueue& queue) {
                                  ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
                                  ImGuiWindowFlags_NoMove;
   if (ImGui::Begin("##viewport_toolbar", nullptr, flags)) {
+    // Items go on one line while it fits in the viewport, then on the next (1280x720).
+    const ImGuiStyle& style = ImGui::GetStyle();
+    const float right_edge = ui.layout.viewport.x + ui.layout.viewport.w - 16;
+    const float box = ImGui::GetFrameHeight() + style.ItemInnerSpacing.x;  // radio, checkbox
+    const float pad = 2 * style.FramePadding.x;                            // button
+    auto beside = [&](const char* next, float extra) {
+      if (ImGui::GetItemRectMax().x + style.ItemSpacing.x + ImGui::CalcTextSize(next).x + extra +
+              style.WindowPadding.x <=
+          right_edge)
+        ImGui::SameLine();
+    };
     int mode = static_cast<int>(ui.gizmo);
     ImGui::RadioButton("Move (W)", &mode, 0);
-    ImGui::SameLine();
+    beside("Rotate (E)", box);
     ImGui::RadioButton("Rotate (E)", &mode, 1);
-    ImGui::SameLine();
+    beside("Size (R)", box);
     ImGui::RadioButton("Size (R)", &mode, 2);
     ui.gizmo = static_cast<GizmoMode>(mode);
-    ImGui::SameLine();
+    beside("Frame all (F)", pad);
     if (ImGui::Button("Frame all (F)")) queue.request(AppAction::Kind::fit_view);
-    ImGui::SameLine();
+    beside("Frame selected", pad);
     ImGui::BeginDisabled(doc.selection().object < 0);
     if (ImGui::Button("Frame selected")) frame_selected(doc, ui);
     ImGui::EndDisabled();
-    ImGui::SameLine();
+    beside("wireframes", box);
     ImGui::Checkbox("wireframes", &ui.show_wireframes);
-    ImGui::SameLine();
+    beside("limits preview", box);
     ImGui::Checkbox("limits preview", &ui.limits_preview);
   }
   ImGui::End();
@@ -359,6 +371,7 @@ void draw_viewport(const EditorDocument& doc, UiState& ui, CommandQueue& queue) 
                  sel};
     } else if (io.KeyCtrl) {
       ui.box_dragging = true;
+      ui.box_through = io.KeyShift || ui.box_select_through;
       ui.box_start = ui.box_end = mouse;
     } else {
       ui.orbiting = true;
@@ -408,7 +421,7 @@ void draw_viewport(const EditorDocument& doc, UiState& ui, CommandQueue& queue) 
     ui.box_end = mouse;
     if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
       ui.box_dragging = false;
-      select_box(doc, ui, ui.box_start, ui.box_end);
+      select_box(doc, ui, ui.box_start, ui.box_end, ui.box_through);
     }
   }
   if (hover_view && io.MouseWheel != 0)
@@ -479,12 +492,22 @@ void draw_viewport(const EditorDocument& doc, UiState& ui, CommandQueue& queue) 
   std::size_t tris = 0;
   for (const Placement& p : placed)
     if (const MeshData* m = doc.mesh_for(p.object)) tris += m->triangle_count();
+  // The hints on one line and, under them, the status wrapped to the viewport's width,
+  // so a long status (a box selection's count) is never cut at 1280x720.
   char line[320];
-  std::snprintf(
-      line, sizeof line,
-      "%zu triangles   %.1f ms/frame   LMB orbit, RMB pan, wheel zoom, Ctrl+LMB box select   %s",
-      tris, ui.frame_ms, ui.status.c_str());
-  dl->AddText(ImVec2(vp.x + 10, vp.y + vp.h - 22), IM_COL32(200, 200, 200, 230), line);
+  std::snprintf(line, sizeof line,
+                "%zu triangles   %.1f ms/frame   LMB orbit, RMB pan, wheel zoom, Ctrl+LMB box "
+                "select (+Shift: through)",
+                tris, ui.frame_ms);
+  const float wrap = std::max(50.f, vp.w - 20);
+  const float status_h =
+      ui.status.empty() ? 0.f : ImGui::CalcTextSize(ui.status.c_str(), nullptr, false, wrap).y;
+  const float line_h = ImGui::GetTextLineHeight();
+  const float bottom = vp.y + vp.h - 6;
+  if (!ui.status.empty())
+    dl->AddText(ImGui::GetFont(), ImGui::GetFontSize(), ImVec2(vp.x + 10, bottom - status_h),
+                IM_COL32(200, 200, 200, 230), ui.status.c_str(), nullptr, wrap);
+  dl->AddText(ImVec2(vp.x + 10, bottom - status_h - line_h), IM_COL32(200, 200, 200, 230), line);
   dl->PopClipRect();
 }
 

@@ -19,7 +19,9 @@ void draw_match_preview(const EditorDocument& doc, UiState& ui, CommandQueue& qu
 void draw_viewport(const EditorDocument& doc, UiState& ui, CommandQueue& queue);
 // Selects the vertices of the selected object's mesh whose projections fall in the
 // screen rectangle a-b (what Ctrl + drag does).
-void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b);
+// `through`: every surface inside the rectangle, back and hidden parts too (X-ray),
+// instead of only what the camera sees.
+void select_box(const EditorDocument& doc, UiState& ui, ImVec2 a, ImVec2 b, bool through = false);
 // File dialog, unsaved-changes and recovery prompts.
 void draw_dialogs(const EditorDocument& doc, UiState& ui, CommandQueue& queue);
 

@@ -79,8 +79,11 @@ struct UiState {
   ImVec2 press_pos;  // where the left button went down: a release near it is a click
   bool panning = false;
 
-  // Box selection (Ctrl + drag): vertices of `box_object`'s mesh inside the rectangle.
+  // Box selection (Ctrl + drag): the visible surface of `box_object`'s mesh inside the
+  // rectangle; Ctrl+Shift + drag (or View > Box select through) the whole depth.
   bool box_dragging = false;
+  bool box_through = false;          // this drag selects through (Shift held at its start)
+  bool box_select_through = false;   // View menu: every box selection selects through
   ImVec2 box_start, box_end;
   int box_object = -1;
   std::vector<Vec3> box_points;   // object frame: samples of the visible surface

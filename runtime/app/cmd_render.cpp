@@ -15,9 +15,11 @@
 #include "annex/runtime/annex_session.h"
 #include "annex/runtime/pcd_io.h"
 #include "annex/runtime/scanner.h"
+#include "annex/runtime/overlay_labels.h"
 #include "annex/runtime/renderer.h"
 #include "commands.h"
 #include "hmd_option.h"
+#include "label_points.h"
 
 namespace annex::cli {
 namespace {
@@ -67,7 +69,8 @@ Status add_wireframes(Renderer& renderer, const PhysicalScene& scene,
 
 int run_render(const std::vector<std::string>& args) {
   const auto parsed = parse_args(kName, args,
-                                 {{"stereo", "window", "points", "wireframes", "no-egl"},
+                                 {{"stereo", "window", "points", "wireframes", "no-egl",
+                                   "no-labels"},
                                   {"out", "cloud", "hmd", "repeat", "frames", "point-stride",
                                    "config"}});
   if (!parsed) return kExitBadInput;
@@ -191,6 +194,7 @@ int run_render(const std::vector<std::string>& args) {
   const MatchResult match = match_objects(*spec, *scene);
   std::vector<Overlay> overlays;
   std::vector<bool> matched(scene->objects.size(), false);
+  std::vector<OverlayLabel> labels;
   int colour = 0;
   for (const MatchEntry& m : match.matches) {
     const VirtualObject& v = spec->objects[m.virtual_index];
@@ -210,6 +214,12 @@ int run_render(const std::vector<std::string>& args) {
     std::snprintf(scale, sizeof scale, "%.4f,%.4f,%.4f", s.x, s.y, s.z);
     std::cout << "render " << v.name << " on " << p.id << " scale=" << scale
               << (fit.clamped ? " clamped" : "") << "\n";
+    char vote[32];
+    std::snprintf(vote, sizeof vote, " %.2f", e.vote);
+    OverlayLabel label{v.name + " on " + p.id + vote + (fit.clamped ? " clamped" : ""), {}, false};
+    for (const Vec3& pt : object_label_points(spec_path.parent_path(), v))
+      label.points.push_back(fit.world_from_model.apply(pt));
+    labels.push_back(std::move(label));
     const Rgba tint = overlay_tint(colour++);
     if (auto st = add_object_overlays(*renderer, spec_path.parent_path(), v, fit, tint, overlays);
         !st)
@@ -252,6 +262,7 @@ int run_render(const std::vector<std::string>& args) {
                   ms[ms.size() / 2], ms.front(), ms.back(), repeat, image.width, image.height);
     std::cout << line << "\n";
   }
+  if (!parsed->has("no-labels")) draw_overlay_labels(image, eyes, labels);
   if (out_path) {
     create_parent_dirs(*out_path);
     if (auto st = write_rgba_png(*out_path, image); !st)
@@ -288,7 +299,9 @@ const Command kRenderCommand{
     "With a depth frame (.pcd) the scanner runs first (see 'scan --help'; --config its\n"
     "parameters) and the frame's colour image is the background.\n"
     "\n"
-    "  --out OUT.png   write the rendered image (RGBA PNG)\n"
+    "  --out OUT.png   write the rendered image (RGBA PNG), each overlay labelled\n"
+    "                  '<virtual> on <physical> <vote> [clamped]'\n"
+    "  --no-labels     the image without the labels (the window has none)\n"
     "  --cloud C.pcd   draw over this frame: its colour image when organized, else its\n"
     "                  points; without it, a plain background with the scene's\n"
     "                  primitives as wireframes (matched ones green)\n"

@@ -18,11 +18,13 @@
 #include "annex/runtime/frame_grabber.h"
 #include "annex/runtime/match_report.h"
 #include "annex/runtime/osc_stream.h"
+#include "annex/runtime/overlay_labels.h"
 #include "annex/runtime/renderer.h"
 #include "annex/runtime/target_volume_segmenter.h"
 #include "commands.h"
 #include "depth_options.h"
 #include "hmd_option.h"
+#include "label_points.h"
 
 namespace annex::cli {
 namespace {
@@ -170,7 +172,7 @@ double median(std::vector<double> v) {
 int run_run(const std::vector<std::string>& args) {
   const auto parsed = parse_args(
       kName, args,
-      {{"window", "stereo", "no-overlays", "points", "realtime", "within-limits"},
+      {{"window", "stereo", "no-overlays", "no-labels", "points", "realtime", "within-limits"},
        {"source", "out", "frames", "scan-every", "release-after", "threads", "config", "hmd",
          "occlusion", "depth-scale", "intrinsics", "stream", "listen", "exclude",
          "inject-faults", "source-retries", "min-vote"}});
@@ -333,6 +335,8 @@ int run_run(const std::vector<std::string>& args) {
   }
   std::vector<std::vector<Drawable>> drawables(spec->objects.size());
   std::vector<bool> uploaded(spec->objects.size(), false);
+  std::vector<std::vector<Vec3>> label_model_points(spec->objects.size());
+  const bool labels = !parsed->has("no-labels");
   std::optional<CameraIntrinsics> camera;
   RgbaImage image;
   // Encoding and writing a 640x480 PNG takes longer than tracking a frame: it runs
@@ -465,6 +469,7 @@ int run_run(const std::vector<std::string>& args) {
     rs.background = frame.organized() && !parsed->has("points") ? Background::camera_image
                                                                 : Background::point_cloud;
     rs.occlusion_margin_m = occlusion_m;
+    std::vector<OverlayLabel> overlay_labels;
     for (const AnnexedObject& o : r.objects) {
       if (o.track.state == TrackingState::lost) continue;
       const auto v = static_cast<size_t>(o.virtual_index);
@@ -472,8 +477,14 @@ int run_run(const std::vector<std::string>& args) {
         uploaded[v] = true;
         drawables[v] = object_drawables(*renderer, spec_path.parent_path(), spec->objects[v],
                                         overlay_tint(v));
+        if (labels) label_model_points[v] = object_label_points(spec_path.parent_path(), spec->objects[v]);
       }
       const Affine world = world_from_model(*spec, o);
+      if (labels) {
+        OverlayLabel label{overlay_label_text(o), {}, o.track.state == TrackingState::held};
+        for (const Vec3& p : label_model_points[v]) label.points.push_back(world.apply(p));
+        overlay_labels.push_back(std::move(label));
+      }
       for (const Drawable& d : drawables[v]) {
         Rgba tint = d.tint;
         if (o.track.state == TrackingState::held) tint.a = 0.5f;  // the pose is a guess
@@ -495,6 +506,7 @@ int run_run(const std::vector<std::string>& args) {
     if (out_dir && !parsed->has("no-overlays")) {
       if (auto st = renderer->render(rs, eyes, image); !st)
         return fail(st.error().format(), kExitFailure);
+      draw_overlay_labels(image, eyes, overlay_labels);
       if (auto st = finish_png(); !st) return fail(st.error().format(), kExitFailure);
       png_write = std::async(std::launch::async,
                              [img = std::move(image),
@@ -552,7 +564,8 @@ extern const Command kRunCommand = {
     "usage: annex-runtime run SPEC.haptic --source SRC [--out DIR] [--window]\n"
     "                         [--stereo [--hmd HMD.conf]] [--frames N] [--scan-every K]\n"
     "                         [--release-after N] [--threads N] [--config SCAN.conf]\n"
-    "                         [--no-overlays] [--points] [--occlusion M] [--realtime]\n"
+    "                         [--no-overlays] [--no-labels] [--points] [--occlusion M]\n"
+    "                         [--realtime]\n"
     "                         [--depth-scale S] [--intrinsics fx,fy,cx,cy]\n"
     "                         [--stream osc.udp://HOST:PORT]... [--listen osc.udp://:PORT]\n"
     "                         [--exclude ID[,ID...]] [--inject-faults PLAN]\n"
@@ -580,7 +593,8 @@ extern const Command kRunCommand = {
     "                    t=x,y,z q=w,x,y,z scale=sx,sy,sz conf=c [clamped], the model's transform\n"
     "                    in the sensor frame and the tracking confidence in [0, 1]),\n"
     "                    DIR/matches.txt (the vote table of every match)\n"
-    "                    and DIR/overlay_NNNNN.png (each virtual model on its prop)\n"
+    "                    and DIR/overlay_NNNNN.png (each virtual model on its prop,\n"
+    "                    labelled '<virtual> on <physical> <vote> [clamped] <state>')\n"
     "  --window          show the overlays live in a window\n"
     "  --stereo          render side-by-side pairs for a head-mounted display\n"
     "  --hmd FILE        HMD config (samples/config/hmd.conf) for --stereo\n"
@@ -590,6 +604,7 @@ extern const Command kRunCommand = {
     "  --threads N       trackers running at once (default 2)\n"
     "  --config FILE     scan parameters (samples/config/scan.conf)\n"
     "  --no-overlays     with --out, write only poses.txt and matches.txt\n"
+    "  --no-labels       overlay PNGs without the labels (the window has none)\n"
     "  --points          draw the frame as points rather than as the colour image\n"
     "  --occlusion M     over the colour image, real surfaces more than M metres in\n"
     "                    front of a virtual model hide it (a hand; its prop, within M,\n"

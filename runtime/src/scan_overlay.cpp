@@ -20,20 +20,25 @@ using Rgb = std::array<std::uint8_t, 3>;
 constexpr Rgb kPalette[] = {{255, 80, 80},  {80, 200, 255}, {120, 255, 100}, {255, 200, 40},
                             {220, 100, 255}, {255, 140, 200}, {60, 255, 220}, {255, 255, 255}};
 
+// RGB (3 channels) or RGBA (4, drawn opaque) pixels, row-major.
 struct Canvas {
-  RgbImage& img;
+  std::uint8_t* px;
+  int width, height, channels = 3;
+  explicit Canvas(RgbImage& img) : px(img.rgb.data()), width(img.width), height(img.height) {}
+  Canvas(std::uint8_t* pixels, int w, int h, int ch) : px(pixels), width(w), height(h), channels(ch) {}
   void put(int x, int y, Rgb c) {
-    if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
-    std::uint8_t* p = &img.rgb[(static_cast<size_t>(y) * img.width + x) * 3];
+    if (x < 0 || y < 0 || x >= width || y >= height) return;
+    std::uint8_t* p = &px[(static_cast<size_t>(y) * width + x) * channels];
     p[0] = c[0];
     p[1] = c[1];
     p[2] = c[2];
+    if (channels == 4) p[3] = 255;
   }
   void line(double x0, double y0, double x1, double y1, Rgb c, int thick = 1) {
     if (!std::isfinite(x0) || !std::isfinite(y0) || !std::isfinite(x1) || !std::isfinite(y1))
       return;
     const double len = std::max(std::abs(x1 - x0), std::abs(y1 - y0));
-    if (len > 4 * (img.width + img.height)) return;  // projected from behind the camera
+    if (len > 4 * (width + height)) return;  // projected from behind the camera
     const int steps = std::max(1, static_cast<int>(len));
     for (int i = 0; i <= steps; ++i) {
       const double t = static_cast<double>(i) / steps;
@@ -139,10 +144,11 @@ void draw_primitive(Canvas& c, const Projector& proj, const ShapeFit& fit, Rgb c
 }
 
 // The overlay's labels: text `scale` times stb_easy_font's 7-pixel glyphs, each box
-// laid out by layout_labels.
+// laid out by layout_labels in the region [x0, x0 + width) of the canvas, whose
+// coordinates the labels' bounds use.
 template <typename Get>
-void place_labels(Canvas& canvas, size_t count, Get get) {
-  const int scale = canvas.img.width >= 480 ? 2 : 1;  // 14 px glyphs on VGA, 7 px on QVGA
+void place_labels(Canvas& canvas, size_t count, Get get, int region_x0, int region_width) {
+  const int scale = region_width >= 480 ? 2 : 1;  // 14 px glyphs on VGA, 7 px on QVGA
   std::vector<LabelRequest> requests;
   for (size_t i = 0; i < count; ++i) {
     const auto& l = get(i);
@@ -150,12 +156,26 @@ void place_labels(Canvas& canvas, size_t count, Get get) {
     requests.push_back({stb_easy_font_width(copy.data()) * scale + 4, 7 * scale + 4, l.top,
                         l.bottom, l.left, l.right});
   }
-  const std::vector<LabelBox> boxes = layout_labels(requests, canvas.img.width, canvas.img.height);
+  const std::vector<LabelBox> boxes = layout_labels(requests, region_width, canvas.height);
   for (size_t i = 0; i < count; ++i)
-    canvas.text(boxes[i].x0 + 2, boxes[i].y0 + 2, get(i).text, get(i).colour, scale);
+    canvas.text(region_x0 + boxes[i].x0 + 2, boxes[i].y0 + 2, get(i).text, get(i).colour, scale);
 }
 
 }  // namespace
+
+void draw_labels(std::uint8_t* pixels, int image_width, int image_height, int channels,
+                 const std::vector<ImageLabel>& labels, int region_x0, int region_width) {
+  if (pixels == nullptr || (channels != 3 && channels != 4) || image_width <= 0 ||
+      image_height <= 0)
+    return;
+  if (region_width < 0) region_width = image_width - region_x0;
+  region_x0 = std::clamp(region_x0, 0, image_width);
+  region_width = std::clamp(region_width, 0, image_width - region_x0);
+  if (region_width == 0) return;
+  Canvas canvas(pixels, image_width, image_height, channels);
+  place_labels(canvas, labels.size(), [&](size_t i) -> const ImageLabel& { return labels[i]; },
+               region_x0, region_width);
+}
 
 RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
                            const CameraIntrinsics& intrinsics) {
@@ -182,7 +202,7 @@ RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
   if (organized)
     if (const Result<CameraIntrinsics> k = estimate_intrinsics(frame))
       proj = {k->fx, k->fy, k->cx, k->cy};
-  Canvas canvas{img};
+  Canvas canvas(img);
   // Each support's hull, its id at its first vertex (selected ones bright).
   for (const ScanSupport& sp : scan.supports) {
     const Rgb col = sp.selected ? Rgb{120, 220, 255} : Rgb{90, 110, 130};
@@ -205,12 +225,7 @@ RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
     }
   }
   // Outlines first, labels last: no wireframe is drawn over a label.
-  struct Label {
-    std::string text;
-    Rgb colour;
-    int top, bottom, left, right;  // the cluster's pixel bounds
-  };
-  std::vector<Label> labels;
+  std::vector<ImageLabel> labels;
   for (size_t k = 0; k < scan.clusters.size(); ++k) {
     const Rgb col = kPalette[k % std::size(kPalette)];
     const auto& prims = scan.clusters[k].shape.primitives;
@@ -236,7 +251,7 @@ RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
     if (partial) text.append(" partial");
     labels.push_back({std::move(text), col, top, bottom, left, right});
   }
-  place_labels(canvas, labels.size(), [&](size_t i) -> const Label& { return labels[i]; });
+  draw_labels(img.rgb.data(), img.width, img.height, 3, labels);
   return img;
 }
 

@@ -81,6 +81,20 @@ class HeadlessPanels : public ::testing::Test {
     return std::nullopt;
   }
 
+  // Ctrl (+ Shift: select through) and a left drag from `from` to `to` in five steps, as
+  // a person's box selection arrives frame by frame.
+  void box_drag(ImVec2 from, ImVec2 to, bool shift = false) {
+    ImGui::GetIO().KeyCtrl = true;
+    ImGui::GetIO().KeyShift = shift;
+    frame(from, false);
+    frame(from, true);
+    for (int i = 1; i <= 4; ++i)
+      frame(ImVec2(from.x + (to.x - from.x) * i / 4, from.y + (to.y - from.y) * i / 4), true);
+    frame(to, false);
+    ImGui::GetIO().KeyCtrl = false;
+    ImGui::GetIO().KeyShift = false;
+  }
+
   // Presses and releases the left button at `at`; returns the app actions requested.
   std::vector<AppAction> click(ImVec2 at) {
     frame(at, true);
@@ -361,13 +375,7 @@ TEST_F(HeadlessPanels, TutorialBoxSelectionByHandFitsTheBody) {
   const ImVec2 from(left - 12, bottom + 12), to(right + 12, mark.y);
   ASSERT_TRUE(vp.contains(from) && vp.contains(to));
 
-  ImGui::GetIO().KeyCtrl = true;
-  frame(from, false);
-  frame(from, true);
-  for (int i = 1; i <= 4; ++i)
-    frame(ImVec2(from.x + (to.x - from.x) * i / 4, from.y + (to.y - from.y) * i / 4), true);
-  frame(to, false);
-  ImGui::GetIO().KeyCtrl = false;
+  box_drag(from, to);
   ASSERT_GT(ui.box_points.size(), 200u) << ui.status;
 
   const std::string label =
@@ -397,15 +405,7 @@ TEST_F(HeadlessPanels, TutorialBoxSelectionByHandFitsTheBody) {
   ImVec2 top;
   ASSERT_TRUE(project(mvp, vp, glm::vec3(0, 0.3f, 0), top));
   const ImVec2 neck_from(left - 12, mark.y - 2), neck_to(right + 12, top.y - 12);
-  ImGui::GetIO().KeyCtrl = true;
-  frame(neck_from, false);
-  frame(neck_from, true);
-  for (int i = 1; i <= 4; ++i)
-    frame(ImVec2(neck_from.x + (neck_to.x - neck_from.x) * i / 4,
-                 neck_from.y + (neck_to.y - neck_from.y) * i / 4),
-          true);
-  frame(neck_to, false);
-  ImGui::GetIO().KeyCtrl = false;
+  box_drag(neck_from, neck_to);
   const std::string neck_label =
       "Fit to box selection (" + std::to_string(ui.box_points.size()) + " points)";
   const auto fit_neck = locate("Inspector", neck_label.c_str());
@@ -436,6 +436,103 @@ TEST_F(HeadlessPanels, TutorialBoxSelectionByHandFitsTheBody) {
   const Primitive& snapped = doc.spec().objects.at(0).primitives.at(1);
   EXPECT_NEAR(snapped.pose.axis().y, 1.0, 1e-9);
   EXPECT_NEAR(snapped.dimensions[1].value_m, neck.dimensions[1].value_m, 0.005);
+}
+
+// Ctrl+drag over the whole mug, seen from its handle's side, takes what the camera
+// sees: every point faces the eye and no nearer part of the mesh (the handle in front
+// of the body) lies on its line of sight. Ctrl+Shift+drag selects through: the back
+// and the body behind the handle too.
+TEST_F(HeadlessPanels, BoxSelectionTakesTheVisibleSurfaceOrSelectsThrough) {
+  doc = EditorDocument{};
+  ASSERT_TRUE(doc.apply(
+      cmd::ImportMesh{std::string(ANNEX_SOURCE_DIR) + "/samples/models/mug.obj", ""}));
+  ASSERT_TRUE(doc.apply(cmd::EndEdit{}));
+  frame(ImVec2(-100, -100), false);
+  frame_all(doc, ui);
+  // The yaw that puts the eye on the handle's side (+X), a little above.
+  float best_yaw = 0, best_x = -1e9f;
+  for (int yaw = 0; yaw < 360; yaw += 5) {
+    ui.camera.yaw_deg = static_cast<float>(yaw);
+    const glm::vec3 e = camera_position(ui.camera) - glm::vec3(ui.camera.target[0], ui.camera.target[1], ui.camera.target[2]);
+    if (e.x > best_x) best_x = e.x, best_yaw = static_cast<float>(yaw);
+  }
+  ui.camera.yaw_deg = best_yaw;
+  ui.camera.pitch_deg = 15;
+  frame(ImVec2(-100, -100), false);
+  const MeshData* mesh = doc.mesh_for(0);
+  ASSERT_NE(mesh, nullptr);
+  const Placement placed = place_objects(doc, ui)[0];
+  const Rect& vp = ui.layout.viewport;
+  const glm::mat4 mvp = projection_matrix(ui.camera, vp.w / vp.h) * view_matrix(ui.camera) * placed.model;
+  float left = 1e9f, right = -1e9f, top = 1e9f, bottom = -1e9f;
+  for (std::size_t i = 0; i < mesh->vertex_count(); ++i) {
+    const Vec3 v = mesh->vertex(i);
+    ImVec2 s;
+    ASSERT_TRUE(project(mvp, vp, glm::vec3(v.x, v.y, v.z), s));
+    left = std::min(left, s.x), right = std::max(right, s.x);
+    top = std::min(top, s.y), bottom = std::max(bottom, s.y);
+  }
+  const ImVec2 from(left - 10, top - 10), to(right + 10, bottom + 10);
+  ASSERT_TRUE(vp.contains(from) && vp.contains(to));
+  const glm::vec3 eye4 = glm::vec3(glm::inverse(placed.model) * glm::vec4(camera_position(ui.camera), 1));
+  const glm::vec3 eye(eye4);
+
+  // Fraction of the selected points that face away from the eye, and that a triangle
+  // nearer than 1 % of their distance hides (Moller-Trumbore, every triangle).
+  auto measure = [&](std::size_t& n, double& away, double& hidden) {
+    n = ui.box_points.size();
+    int a = 0, h = 0, tested = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const glm::vec3 p(ui.box_points[i].x, ui.box_points[i].y, ui.box_points[i].z);
+      const glm::vec3 nn(ui.box_normals[i].x, ui.box_normals[i].y, ui.box_normals[i].z);
+      if (glm::dot(nn, eye - p) <= 0) ++a;
+      if (i % 7) continue;  // the ray test on every 7th point
+      ++tested;
+      const glm::vec3 dir = p - eye;
+      bool blocked = false;
+      for (std::size_t t = 0; t < mesh->triangle_count() && !blocked; ++t) {
+        const Vec3 va = mesh->vertex(mesh->indices[3 * t]), vb = mesh->vertex(mesh->indices[3 * t + 1]),
+                   vc = mesh->vertex(mesh->indices[3 * t + 2]);
+        const glm::vec3 A(va.x, va.y, va.z), e1 = glm::vec3(vb.x, vb.y, vb.z) - A,
+                        e2 = glm::vec3(vc.x, vc.y, vc.z) - A;
+        const glm::vec3 q = glm::cross(dir, e2);
+        const float det = glm::dot(e1, q);
+        if (std::abs(det) < 1e-12f) continue;
+        const glm::vec3 s = eye - A;
+        const float u = glm::dot(s, q) / det;
+        if (u < 0 || u > 1) continue;
+        const glm::vec3 r = glm::cross(s, e1);
+        const float v = glm::dot(dir, r) / det;
+        if (v < 0 || u + v > 1) continue;
+        if (glm::dot(e2, r) / det < 0.99f) blocked = true;  // along dir, 1 is the point
+      }
+      if (blocked) ++h;
+    }
+    away = n ? static_cast<double>(a) / n : 0;
+    hidden = tested ? static_cast<double>(h) / tested : 0;
+  };
+  std::size_t seen_n = 0, through_n = 0;
+  double seen_away = 0, seen_hidden = 0, through_away = 0, through_hidden = 0;
+  box_drag(from, to);
+  measure(seen_n, seen_away, seen_hidden);
+  EXPECT_NE(ui.status.find("visible surface"), std::string::npos) << ui.status;
+  box_drag(from, to, true);
+  measure(through_n, through_away, through_hidden);
+  EXPECT_NE(ui.status.find("through the whole depth"), std::string::npos) << ui.status;
+  std::printf("visible: %zu points, %.3f facing away, %.3f hidden; through: %zu points, %.3f "
+              "facing away, %.3f hidden\n",
+              seen_n, seen_away, seen_hidden, through_n, through_away, through_hidden);
+  ASSERT_GT(seen_n, 200u);
+  EXPECT_EQ(seen_away, 0.0);
+  EXPECT_LT(seen_hidden, 0.02);  // the depth cells' edges, at silhouettes
+  EXPECT_GT(through_n, seen_n * 3 / 2);
+  EXPECT_GT(through_away, 0.3);
+  EXPECT_GT(through_hidden, 0.3);
+
+  // View > Box select through makes a plain Ctrl+drag select through.
+  ui.box_select_through = true;
+  box_drag(from, to);
+  EXPECT_EQ(ui.box_points.size(), through_n);
 }
 
 }  // namespace

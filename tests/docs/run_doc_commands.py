@@ -7,7 +7,8 @@ A command is a line of a fenced or indented code block that starts with
 of the checkout (so outputs such as out/ or bottle.haptic land there, in the order the
 pages give them), with `build/release/` standing for the build tree under test. Under
 a `$ ` line, the lines up to the block's end are the output the page promises: they
-must match exactly. The editor started without --script would wait for a person, so
+must match exactly, except that a line `...` stands for any number of lines (output the
+page leaves out, such as timings). The editor started without --script would wait for a person, so
 it gets a one-line script that quits once the window is up.
 
 Not run: `bash scripts/*.sh` and `cmake` lines (the build itself), and
@@ -102,6 +103,24 @@ def commands(page_text):
             yield cmd, expected
 
 
+def matches(printed, expected):
+    """True when the printed lines are the expected ones, each `...` line standing for
+    any run of lines (none included)."""
+    got = printed.split("\n")
+    want = expected.split("\n")
+    # Greedy-free matching by dynamic programming over the two line lists.
+    reach = [[False] * (len(got) + 1) for _ in range(len(want) + 1)]
+    reach[0][0] = True
+    for i in range(1, len(want) + 1):
+        wild = want[i - 1].strip() == "..."
+        for j in range(len(got) + 1):
+            if wild:
+                reach[i][j] = reach[i - 1][j] or (j > 0 and reach[i][j - 1])
+            else:
+                reach[i][j] = j > 0 and reach[i - 1][j - 1] and got[j - 1] == want[i - 1]
+    return reach[len(want)][len(got)]
+
+
 def main():
     source = pathlib.Path(sys.argv[1]).resolve()
     build = pathlib.Path(sys.argv[2]).resolve()
@@ -141,7 +160,7 @@ def main():
             if r.returncode != 0:
                 failed.append(f"{rel}: {cmd}\n    exit {r.returncode}\n    " +
                               (r.stderr.strip() or r.stdout.strip()).replace("\n", "\n    "))
-            elif expected is not None and r.stdout.rstrip("\n") != expected:
+            elif expected is not None and not matches(r.stdout.rstrip("\n"), expected):
                 failed.append(f"{rel}: {cmd}\n    printed:\n{r.stdout}    the page shows:\n{expected}")
             else:
                 print(f"ok  {rel}: {cmd}")

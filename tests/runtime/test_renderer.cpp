@@ -783,5 +783,50 @@ TEST(RenderCommand, BadArgumentsExitTwo) {
   EXPECT_NE(no_out.output.find("--out"), std::string::npos);
 }
 
+// run's overlay PNGs name what is annexed onto what: the labelled image differs from
+// the --no-labels one only in label pixels (white text on black boxes), and there are
+// as many label boxes' worth as annexed objects.
+TEST(RunCommand, OverlaysAreLabelledUnlessNoLabels) {
+  TempDir dir;
+  auto run = [&](const std::string& sub, const std::string& extra) {
+    return test::run_cli("run " + test::shell_quote(test::source_path("samples/specs/study.haptic")) +
+                         " --source " +
+                         test::shell_quote(test::source_path("samples/recordings/tabletop")) +
+                         " --frames 1 --out " + test::shell_quote((dir / sub).string()) + extra);
+  };
+  const auto labelled = run("labelled", ""), plain = run("plain", " --no-labels");
+  if (labelled.output.find("warning: no overlay images") != std::string::npos)
+    GTEST_SKIP() << "no OpenGL context: " << labelled.output;
+  ASSERT_EQ(labelled.exit_code, 0) << labelled.output;
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  int w = 0, h = 0, n = 0, w2 = 0, h2 = 0;
+  stbi_uc* a = stbi_load((dir / "labelled" / "overlay_00000.png").c_str(), &w, &h, &n, 4);
+  stbi_uc* b = stbi_load((dir / "plain" / "overlay_00000.png").c_str(), &w2, &h2, &n, 4);
+  ASSERT_NE(a, nullptr);
+  ASSERT_NE(b, nullptr);
+  ASSERT_EQ(w, w2);
+  ASSERT_EQ(h, h2);
+  int differ = 0, label_pixels = 0, text_pixels = 0, top = h, bottom = -1;
+  for (int i = 0; i < w * h; ++i) {
+    const stbi_uc* p = a + 4 * i;
+    const stbi_uc* q = b + 4 * i;
+    if (p[0] == q[0] && p[1] == q[1] && p[2] == q[2]) continue;
+    ++differ;
+    const bool black = p[0] == 0 && p[1] == 0 && p[2] == 0;
+    const bool white = p[0] == 255 && p[1] == 255 && p[2] == 255;
+    label_pixels += black || white;
+    text_pixels += white;
+    top = std::min(top, i / w), bottom = std::max(bottom, i / w);
+  }
+  stbi_image_free(a);
+  stbi_image_free(b);
+  EXPECT_EQ(label_pixels, differ);
+  EXPECT_GT(text_pixels, 300);
+  // Two annexed objects (bottle and lamp), 14-pixel text: more than one label's height.
+  EXPECT_NE(labelled.output.find("annexed champagne_bottle"), std::string::npos);
+  EXPECT_NE(labelled.output.find("annexed lamp"), std::string::npos);
+  EXPECT_GT(bottom - top, 18);
+}
+
 }  // namespace
 }  // namespace annex

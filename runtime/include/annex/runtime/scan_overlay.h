@@ -3,6 +3,7 @@
 // points coloured, its fitted primitives drawn as wireframes projected with the
 // intrinsics, and a label "p2 cylinder" (docs/perception.md).
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -38,6 +39,19 @@ struct LabelBox {
 };
 std::vector<LabelBox> layout_labels(const std::vector<LabelRequest>& labels, int image_width,
                                     int image_height);
+
+// A label's text and colour, and the pixel bounds of what it names.
+struct ImageLabel {
+  std::string text;
+  std::array<std::uint8_t, 3> colour{255, 255, 255};
+  int top = 0, bottom = 0, left = 0, right = 0;
+};
+// Draws the labels, white-on-black boxes of stb_easy_font text laid out by
+// layout_labels, on RGB (channels 3) or RGBA (4, drawn opaque) pixels, row-major. The
+// labels' bounds and their layout are in the region [region_x0, region_x0 +
+// region_width) of the image (one eye of a side-by-side render; -1: to the right edge).
+void draw_labels(std::uint8_t* pixels, int image_width, int image_height, int channels,
+                 const std::vector<ImageLabel>& labels, int region_x0 = 0, int region_width = -1);
 
 // PNG bytes of an image (stb_image_write), and an atomic file write of them.
 std::string encode_png(const RgbImage& image);
