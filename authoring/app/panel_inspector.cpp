@@ -78,10 +78,13 @@ void draw_object(const EditorDocument& doc, CommandQueue& queue, int o) {
   end_step_if_done(queue);
   ImGui::TextDisabled("mesh: %s", obj.mesh.empty() ? "(none)" : obj.mesh.c_str());
   if (const MeshData* m = doc.mesh_for(o)) {
-    // The model's size in the AR scene: the mesh at its model_scale.
-    ImGui::Text("in the scene: %.1f x %.1f x %.1f cm (%zu triangles)", (m->max.x - m->min.x) * 100,
-                (m->max.y - m->min.y) * 100, (m->max.z - m->min.z) * 100, m->triangle_count());
-    draw_model_scale(doc, queue, o);
+    // The model's size in the AR scene (the mesh at its model_scale); opened, its units.
+    if (ImGui::TreeNode("model_size", "in the scene: %.1f x %.1f x %.1f cm (%zu triangles)",
+                        (m->max.x - m->min.x) * 100, (m->max.y - m->min.y) * 100,
+                        (m->max.z - m->min.z) * 100, m->triangle_count())) {
+      draw_model_scale(doc, queue, o);
+      ImGui::TreePop();
+    }
   }
   bool annexable = obj.annexable;
   if (ImGui::Checkbox("annexable (matched to a physical prop)", &annexable))
