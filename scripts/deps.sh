@@ -9,6 +9,7 @@ ANNEX_PACKAGES=(
   libeigen3-dev libpcl-dev libopenni2-dev libopenmpi-dev libcgal-dev
   libassimp-dev libglfw3-dev libglm-dev libimgui-dev libgl-dev libegl-dev libstb-dev zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  assimp-testmodels                             # real models no one here wrote (model units tests)
   liblo-dev liblo-tools                         # the OSC stream; oscdump/oscsend in its tests
   xvfb xauth libgl1-mesa-dri                    # headless OpenGL for the editor's tests
   python3 python3-numpy python3-scipy           # independent reference for the assignment tests

@@ -7,6 +7,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "annex/authoring/fit.h"
+#include "annex/authoring/script.h"
 #include "panels.h"
 
 namespace annex::authoring {
@@ -32,16 +33,59 @@ Quat quat_from_euler(const float deg[3]) {
   return normalized(Quat{g.w, g.x, g.y, g.z});
 }
 
+// Model units and size: what the file states, and three ways to override it.
+void draw_model_scale(const EditorDocument& doc, CommandQueue& queue, int o) {
+  const VirtualObject& obj = doc.spec().objects[o];
+  const MeshData* source = doc.source_mesh_for(o);
+  if (source == nullptr) return;
+  ImGui::TextDisabled("file units: %s", source->units.note.c_str());
+  double scale = obj.model_scale;
+  ImGui::SetNextItemWidth(120);
+  if (ImGui::InputDouble("model scale (m per mesh unit)", &scale, 0, 0, "%.6g") && scale > 0)
+    queue.push(cmd::SetModelScale{o, scale});
+  end_step_if_done(queue);
+  ImGui::TextUnformatted("mesh units:");
+  for (const char* unit : {"mm", "cm", "m", "in", "ft"}) {
+    ImGui::SameLine();
+    if (ImGui::SmallButton(unit))
+      if (const auto metres = metres_per_unit(unit)) {
+        queue.push(cmd::SetModelScale{o, *metres});
+        queue.push(cmd::EndEdit{});
+      }
+  }
+  if (source->units.stated && obj.model_scale != source->units.metres_per_unit) {
+    ImGui::SameLine();
+    if (ImGui::SmallButton("as the file states")) {
+      queue.push(cmd::SetModelScale{o, source->units.metres_per_unit});
+      queue.push(cmd::EndEdit{});
+    }
+  }
+  const double units_high = model_height_units(*source);
+  double height_cm = units_high * obj.model_scale * 100;
+  ImGui::SetNextItemWidth(120);
+  if (ImGui::InputDouble("real height (cm, up +Y)", &height_cm, 0, 0, "%.2f",
+                         ImGuiInputTextFlags_EnterReturnsTrue) &&
+      height_cm > 0 && units_high > 0) {
+    queue.push(cmd::SetModelScale{o, height_cm / 100 / units_high});
+    queue.push(cmd::EndEdit{});
+  }
+}
+
 void draw_object(const EditorDocument& doc, CommandQueue& queue, int o) {
   const VirtualObject& obj = doc.spec().objects[o];
   std::string name = obj.name;
   if (ImGui::InputText("name", &name)) queue.push(cmd::RenameObject{o, name});
   end_step_if_done(queue);
   ImGui::TextDisabled("mesh: %s", obj.mesh.empty() ? "(none)" : obj.mesh.c_str());
-  if (const MeshData* m = doc.mesh_for(o))
-    ImGui::TextDisabled("%zu triangles, %.1f x %.1f x %.1f cm", m->triangle_count(),
+  if (const MeshData* m = doc.mesh_for(o)) {
+    // The model's size in the AR scene (the mesh at its model_scale); opened, its units.
+    if (ImGui::TreeNode("model_size", "in the scene: %.1f x %.1f x %.1f cm (%zu triangles)",
                         (m->max.x - m->min.x) * 100, (m->max.y - m->min.y) * 100,
-                        (m->max.z - m->min.z) * 100);
+                        (m->max.z - m->min.z) * 100, m->triangle_count())) {
+      draw_model_scale(doc, queue, o);
+      ImGui::TreePop();
+    }
+  }
   bool annexable = obj.annexable;
   if (ImGui::Checkbox("annexable (matched to a physical prop)", &annexable))
     queue.push(cmd::SetAnnexable{o, annexable});
@@ -77,9 +121,9 @@ void draw_fit(const EditorDocument& doc, UiState& ui, CommandQueue& queue, int o
     ui.fit_kind = prim.kind;
   }
   int kind = static_cast<int>(ui.fit_kind);
-  const char* names[] = {"sphere", "cylinder", "cone", "torus", "box"};
+  const char* names[] = {"sphere", "cylinder", "cone", "torus", "box", "plane"};
   ImGui::SetNextItemWidth(120);
-  if (ImGui::Combo("shape##fit", &kind, names, 5)) ui.fit_kind = static_cast<ShapeKind>(kind);
+  if (ImGui::Combo("shape##fit", &kind, names, 6)) ui.fit_kind = static_cast<ShapeKind>(kind);
   ImGui::SameLine();
   int snap = static_cast<int>(ui.fit_snap);
   const char* snaps[] = {"axis from the points", "axis: object up (+Y)",
@@ -123,8 +167,8 @@ void draw_primitive(const EditorDocument& doc, UiState& ui, CommandQueue& queue,
   if (ImGui::InputText("primitive", &name)) queue.push(cmd::RenamePrimitive{o, p, name});
   end_step_if_done(queue);
   int kind = static_cast<int>(prim.kind);
-  const char* names[] = {"sphere", "cylinder", "cone", "torus", "box"};
-  if (ImGui::Combo("shape", &kind, names, 5))
+  const char* names[] = {"sphere", "cylinder", "cone", "torus", "box", "plane"};
+  if (ImGui::Combo("shape", &kind, names, 6))
     queue.push(cmd::SetKind{o, p, static_cast<ShapeKind>(kind)});
   float ws = static_cast<float>(prim.weight);
   if (ImGui::SliderFloat("primitive priority w_s", &ws, 0.f, 1.f, "%.2f"))

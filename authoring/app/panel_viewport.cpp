@@ -41,6 +41,8 @@ int size_dimension(ShapeKind kind, int k) {
       return k == 2 ? 1 : 0;
     case ShapeKind::box:
       return k;
+    case ShapeKind::plane:  // no thickness: the normal's handle (k = 2) sizes nothing
+      return k;
   }
   return -1;
 }

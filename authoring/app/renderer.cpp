@@ -8,6 +8,7 @@
 #define GL_GLEXT_PROTOTYPES
 #include <GL/glcorearb.h>
 #include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "view.h"
@@ -190,6 +191,19 @@ void primitive_lines(std::vector<float>& out_xyz, const Primitive& p) {
         }
       break;
     }
+    case ShapeKind::plane: {  // the rectangle, its diagonals and a short normal
+      const float hx = 0.5f * d(0), hy = 0.5f * d(1);
+      const glm::vec3 c0 = -hx * X - hy * Y, c1 = hx * X - hy * Y, c2 = hx * X + hy * Y,
+                      c3 = -hx * X + hy * Y;
+      seg(c0, c1);
+      seg(c1, c2);
+      seg(c2, c3);
+      seg(c3, c0);
+      seg(c0, c2);
+      seg(c1, c3);
+      seg(O, Z * (0.25f * std::min(d(0), d(1))));
+      break;
+    }
   }
 }
 
@@ -337,13 +351,17 @@ void Renderer::draw(const EditorDocument& doc, const UiState& ui, int fb_width, 
   for (int pass = 0; pass < 2; ++pass) {
     for (const Placement& p : placed) {
       if (p.ghost != (pass == 1)) continue;
-      const MeshData* mesh = doc.mesh_for(p.object);
+      // The file's mesh, uploaded once, drawn at the object's model_scale.
+      const MeshData* mesh = doc.source_mesh_for(p.object);
       if (mesh == nullptr) continue;
       const GpuMesh& g = upload(*mesh);
+      const glm::mat4 model =
+          p.model * glm::scale(glm::mat4(1.f),
+                               glm::vec3(static_cast<float>(doc.spec().objects[p.object].model_scale)));
       glUniformMatrix4fv(glGetUniformLocation(mesh_program_, "u_model"), 1, GL_FALSE,
-                         glm::value_ptr(p.model));
+                         glm::value_ptr(model));
       // Once per object on the CPU, not per vertex in the shader.
-      const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(p.model)));
+      const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(model)));
       glUniformMatrix3fv(glGetUniformLocation(mesh_program_, "u_normal_matrix"), 1, GL_FALSE,
                          glm::value_ptr(normal_matrix));
       glUniform1f(glGetUniformLocation(mesh_program_, "u_alpha"), p.ghost ? 0.55f : 1.f);

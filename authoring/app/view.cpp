@@ -71,6 +71,8 @@ glm::vec3 limit_scale(const Primitive& p, bool max) {
       return {s(0), s(0), s(1)};
     case ShapeKind::box:
       return {s(0), s(1), s(2)};
+    case ShapeKind::plane:
+      return {s(0), s(1), 1};
   }
   return {1, 1, 1};
 }

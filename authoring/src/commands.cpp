@@ -46,8 +46,10 @@ std::string command_label(const Command& c) {
           return "End edit";
         else if constexpr (std::is_same_v<T, cmd::Undo>)
           return "Undo";
-        else
+        else if constexpr (std::is_same_v<T, cmd::Redo>)
           return "Redo";
+        else
+          return "Set model scale";
       },
       c);
 }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <iterator>
 #include <type_traits>
 
 #include "annex/authoring/fit.h"
@@ -96,12 +97,36 @@ std::string EditorDocument::mesh_reference(const fs::path& file) const {
   return stored_mesh_path(abs, path_.parent_path());
 }
 
-const MeshData* EditorDocument::mesh_for(int object) const {
+const MeshData* EditorDocument::source_mesh_for(int object) const {
   if (object < 0 || object >= static_cast<int>(spec_.objects.size())) return nullptr;
   const std::string& m = spec_.objects[object].mesh;
   if (m.empty()) return nullptr;
   auto it = meshes_.find(resolve_mesh_path(m).string());
   return it == meshes_.end() ? nullptr : it->second.get();
+}
+
+const MeshData* EditorDocument::mesh_for(int object) const {
+  const MeshData* source = source_mesh_for(object);
+  const double scale = source != nullptr ? spec_.objects[object].model_scale : 1.0;
+  if (source == nullptr || scale == 1.0) return source;
+  const auto key = std::make_pair(resolve_mesh_path(spec_.objects[object].mesh).string(), scale);
+  auto it = scaled_.find(key);
+  if (it == scaled_.end()) {
+    MeshData scaled = *source;
+    for (float& v : scaled.positions) v = static_cast<float>(v * scale);
+    update_bounds(scaled);
+    // A slider drag makes many scales: drop the copies no object uses any more (those
+    // in use stay, so pointers handed out for them stay valid).
+    for (auto e = scaled_.begin(); e != scaled_.end();) {
+      bool used = false;
+      for (const VirtualObject& v : spec_.objects)
+        used = used || (!v.mesh.empty() && v.model_scale == e->first.second &&
+                        resolve_mesh_path(v.mesh).string() == e->first.first);
+      e = used ? std::next(e) : scaled_.erase(e);
+    }
+    it = scaled_.emplace(key, std::make_shared<const MeshData>(std::move(scaled))).first;
+  }
+  return it->second.get();
 }
 
 Status EditorDocument::load_mesh(const std::string& mesh) {
@@ -177,7 +202,8 @@ std::string merge_key(const Command& c) {
           return type + "/" + std::to_string(static_cast<int>(x.level)) + "/" +
                  std::to_string(x.object) + "/" + std::to_string(x.primitive) + "/" +
                  std::to_string(x.dimension);
-        else if constexpr (std::is_same_v<T, cmd::RenameObject>)
+        else if constexpr (std::is_same_v<T, cmd::RenameObject> ||
+                           std::is_same_v<T, cmd::SetModelScale>)
           return type + "/" + std::to_string(x.object);
         else
           return {};
@@ -252,6 +278,10 @@ Status EditorDocument::apply_edit(const Command& command) {
           o.name =
               unique_object_name(next, c.name.empty() ? fs::path(c.mesh).stem().string() : c.name);
           o.mesh = c.mesh;
+          // The unit the file states, metres unless it says otherwise (docs/editor.md).
+          if (const auto it = meshes_.find(resolve_mesh_path(c.mesh).string());
+              it != meshes_.end() && it->second->units.stated)
+            o.model_scale = it->second->units.metres_per_unit;
           objects.push_back(std::move(o));
           sel = {static_cast<int>(objects.size()) - 1, -1};
         } else if constexpr (std::is_same_v<T, cmd::AddObject>) {
@@ -387,6 +417,18 @@ Status EditorDocument::apply_edit(const Command& command) {
                               std::string(shape_name(c.value.kind)));
           *p = c.value;
           p->pose.rotation = normalized(p->pose.rotation);
+        } else if constexpr (std::is_same_v<T, cmd::SetModelScale>) {
+          VirtualObject* o = object_at(c.object);
+          if (!o) return edit_error(bad_object);
+          if (!std::isfinite(c.model_scale) || c.model_scale <= 0)
+            return edit_error("model_scale must be a positive number (metres per mesh unit)");
+          // The primitives stay on the mesh: sizes and positions scale with it.
+          const double r = c.model_scale / o->model_scale;
+          for (Primitive& p : o->primitives) {
+            p.pose.position = p.pose.position * r;
+            for (Dimension& d : p.dimensions) d.value_m *= r;
+          }
+          o->model_scale = c.model_scale;
         }
         return Ok{};
       },

@@ -51,29 +51,7 @@ Eigen3 symmetric_eigen(const double m[3][3]) {
   return e;
 }
 
-Quat quat_from_frame(Vec3 x, Vec3 y, Vec3 z) {
-  // Columns x, y, z form the rotation matrix R; standard branch on the largest term.
-  const double m00 = x.x, m10 = x.y, m20 = x.z;
-  const double m01 = y.x, m11 = y.y, m21 = y.z;
-  const double m02 = z.x, m12 = z.y, m22 = z.z;
-  const double tr = m00 + m11 + m22;
-  Quat q;
-  if (tr > 0) {
-    const double s = std::sqrt(tr + 1.0) * 2;
-    q = {0.25 * s, (m21 - m12) / s, (m02 - m20) / s, (m10 - m01) / s};
-  } else if (m00 > m11 && m00 > m22) {
-    const double s = std::sqrt(1.0 + m00 - m11 - m22) * 2;
-    q = {(m21 - m12) / s, 0.25 * s, (m01 + m10) / s, (m02 + m20) / s};
-  } else if (m11 > m22) {
-    const double s = std::sqrt(1.0 + m11 - m00 - m22) * 2;
-    q = {(m02 - m20) / s, (m01 + m10) / s, 0.25 * s, (m12 + m21) / s};
-  } else {
-    const double s = std::sqrt(1.0 + m22 - m00 - m11) * 2;
-    q = {(m10 - m01) / s, (m02 + m20) / s, (m12 + m21) / s, 0.25 * s};
-  }
-  if (q.w < 0) q = {-q.w, -q.x, -q.y, -q.z};
-  return normalized(q);
-}
+Quat quat_from_frame(Vec3 x, Vec3 y, Vec3 z) { return rotation_from_axes(x, y, z); }
 
 namespace {
 
@@ -491,6 +469,13 @@ Result<FitResult> fit_primitive(std::span<const Vec3> points, ShapeKind kind,
     case ShapeKind::box: {
       out.pose.rotation = quat_from_frame(f.eig.vectors[0], f.eig.vectors[1], f.eig.vectors[2]);
       out.dimensions = {f.hi[0] - f.lo[0], f.hi[1] - f.lo[1], f.hi[2] - f.lo[2]};
+      break;
+    }
+    // A panel: the rectangle across the two widest directions, its normal the thinnest
+    // (the snapped axis when one is given), through the middle of the points.
+    case ShapeKind::plane: {
+      out.pose.rotation = quat_from_frame(f.eig.vectors[0], f.eig.vectors[1], f.eig.vectors[2]);
+      out.dimensions = {f.hi[0] - f.lo[0], f.hi[1] - f.lo[1]};
       break;
     }
     case ShapeKind::torus: {

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <iterator>
 
 #include "annex/authoring/fit.h"
@@ -105,7 +106,7 @@ struct Ctx {
   }
   Result<ShapeKind> kind(const std::string& name) const {
     if (auto k = shape_from_name(name)) return *k;
-    return fail("unknown shape '" + name + "' (sphere, cylinder, cone, torus, box)");
+    return fail("unknown shape '" + name + "' (sphere, cylinder, cone, torus, box, plane)");
   }
   Result<int> selected_object() const {
     if (doc.selection().object < 0)
@@ -125,6 +126,35 @@ struct Ctx {
     return d;
   }
 };
+
+}  // namespace
+
+std::optional<double> metres_per_unit(std::string_view unit) {
+  if (unit == "mm") return 0.001;
+  if (unit == "cm") return 0.01;
+  if (unit == "m") return 1.0;
+  if (unit == "in") return 0.0254;
+  if (unit == "ft") return 0.3048;
+  return std::nullopt;
+}
+
+double model_height_units(const MeshData& mesh) { return mesh.max.y - mesh.min.y; }
+
+std::string describe_model_size(const EditorDocument& doc, int object) {
+  const VirtualObject& o = doc.spec().objects.at(static_cast<std::size_t>(object));
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "model %s: model_scale %g", o.name.c_str(), o.model_scale);
+  std::string out = buf;
+  const MeshData* source = doc.source_mesh_for(object);
+  const MeshData* scaled = doc.mesh_for(object);
+  if (source == nullptr || scaled == nullptr) return out + "; no mesh loaded";
+  const Vec3 size = scaled->max - scaled->min;
+  std::snprintf(buf, sizeof buf, "; size %.3f x %.3f x %.3f m (x, y up, z); units: ", size.x,
+                size.y, size.z);
+  return out + buf + source->units.note;
+}
+
+namespace {
 
 #define ANNEX_TRY(var, expr)            \
   auto var##_r = (expr);                \
@@ -153,6 +183,30 @@ Status run_set(const Ctx& c) {
     }
     const Selection s = c.doc.selection();
     return c.run(cmd::RenamePrimitive{s.object, s.primitive, w[2]});
+  }
+  if (key == "model_scale" || key == "model_units" || key == "model_height") {
+    ANNEX_TRY(o, c.selected_object());
+    if (Status st = c.need(3, "set " + key + (key == "model_units" ? " mm|cm|m|in|ft" : " VALUE"));
+        !st)
+      return st;
+    double scale = 0;
+    if (key == "model_units") {
+      const auto metres = metres_per_unit(w[2]);
+      if (!metres) return c.fail("unknown unit '" + w[2] + "' (mm, cm, m, in, ft)");
+      scale = *metres;
+    } else {
+      ANNEX_TRY(v, c.number(2));
+      if (!(v > 0)) return c.fail(key + " must be positive, got '" + w[2] + "'");
+      scale = v;
+      if (key == "model_height") {
+        const MeshData* mesh = c.doc.source_mesh_for(o);
+        if (mesh == nullptr) return c.fail("set model_height needs the object's mesh, and it has none loaded");
+        const double h = model_height_units(*mesh);
+        if (!(h > 0)) return c.fail("the object's mesh is flat along its up axis (+Y)");
+        scale = v / h;
+      }
+    }
+    return c.run(cmd::SetModelScale{o, scale});
   }
   ANNEX_TRY(s, c.selected_primitive());
   const Primitive& prim = c.doc.spec().objects[s.object].primitives[s.primitive];
@@ -208,8 +262,8 @@ Status run_set(const Ctx& c) {
     return c.run(cmd::SetDimension{s.object, s.primitive, dimension_index(prim.kind, key), v});
   }
   return c.fail("unknown key '" + key +
-                "' (annexable, priority, weight, name, position, axis, rotation, kind, a dimension "
-                "name, dim_weight, limits)");
+                "' (annexable, priority, weight, name, model_scale, model_units, model_height, "
+                "position, axis, rotation, kind, a dimension name, dim_weight, limits)");
 }
 
 Status run_rank(const Ctx& c) {
@@ -350,6 +404,9 @@ Result<ScriptResult> run_document_command(EditorDocument& doc, const ScriptLine&
     out.output = "valid\n";
   } else if (verb == "print") {
     out.output = write_haptic(doc.spec());
+  } else if (verb == "model") {
+    ANNEX_TRY(o, c.selected_object());
+    out.output = describe_model_size(doc, o) + "\n";
   } else {
     out.handled = false;
   }

@@ -23,6 +23,8 @@ double half_extent(const PhysicalPrimitive& p, Vec3 u) {
       return c * dim(1) + s * (dim(0) + dim(1));
     case ShapeKind::box:
       return c * dim(2) / 2 + s * std::hypot(dim(0), dim(1)) / 2;
+    case ShapeKind::plane:  // no thickness: only its tilt raises it
+      return s * std::hypot(dim(0), dim(1)) / 2;
   }
   return 0;
 }

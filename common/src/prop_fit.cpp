@@ -35,6 +35,27 @@ Affine inverse_rigid(const Pose& pose) {
   return r;
 }
 
+Affine model_from_mesh(const VirtualObject& object) {
+  Affine a;
+  a.m[0] = a.m[5] = a.m[10] = object.model_scale;
+  return a;
+}
+
+Quat plane_frame(const PhysicalPrimitive& p, bool swap_sides) {
+  const Vec3 z = normalized(p.axis);
+  Vec3 x = p.x_axis - z * dot(p.x_axis, z);
+  if (norm(x) < 1e-9) x = rotate(rotation_from_z(z), {1, 0, 0});
+  x = normalized(x);
+  Vec3 y = cross(z, x);
+  // The virtual size_x lies along the physical size_y side: turn the frame a quarter.
+  if (swap_sides) {
+    const Vec3 old_x = x;
+    x = y;
+    y = old_x * -1.0;
+  }
+  return rotation_from_axes(x, y, z);
+}
+
 Vec3 local_scale_for(const Primitive& p, const std::vector<double>& f) {
   auto at = [&](size_t i) { return i < f.size() ? f[i] : 1.0; };
   switch (p.kind) {
@@ -45,6 +66,8 @@ Vec3 local_scale_for(const Primitive& p, const std::vector<double>& f) {
     // A torus's tube thickness shows along its axis; the ring spans x and y.
     case ShapeKind::torus: return {at(0), at(0), at(1)};
     case ShapeKind::box: return {at(0), at(1), at(2)};
+    // A flat panel scales in its plane; its thickness (none) stays.
+    case ShapeKind::plane: return {at(0), at(1), 1};
   }
   return {1, 1, 1};
 }
@@ -52,10 +75,10 @@ Vec3 local_scale_for(const Primitive& p, const std::vector<double>& f) {
 PropFit fit_to_prop(const Primitive& v, const PhysicalPrimitive& p) {
   const size_t n = std::min(v.dimensions.size(), p.dimensions_m.size());
   // Which physical size each virtual dimension takes: the same index, except for
-  // boxes, whose sides pair up by size rank (as in the Voter).
+  // boxes and planes, whose sides pair up by size rank (as in the Voter).
   std::vector<size_t> partner(n);
   std::iota(partner.begin(), partner.end(), 0);
-  if (v.kind == ShapeKind::box) {
+  if (v.kind == ShapeKind::box || v.kind == ShapeKind::plane) {
     std::vector<size_t> vi(n), pi(n);
     std::iota(vi.begin(), vi.end(), 0);
     std::iota(pi.begin(), pi.end(), 0);
@@ -78,7 +101,9 @@ PropFit fit_to_prop(const Primitive& v, const PhysicalPrimitive& p) {
   fit.scale = local_scale_for(v, clamped);
   fit.wanted_scale = local_scale_for(v, wanted);
 
-  const Pose world_from_local{p.center, rotation_from_z(p.axis)};
+  Pose world_from_local{p.center, rotation_from_z(p.axis)};
+  if (v.kind == ShapeKind::plane && p.kind == ShapeKind::plane && n == 2)
+    world_from_local.rotation = plane_frame(p, partner[0] == 1);
   Affine scale;
   scale.m[0] = fit.scale.x;
   scale.m[5] = fit.scale.y;

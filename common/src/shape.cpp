@@ -9,6 +9,7 @@ constexpr std::array<std::string_view, 2> kCylinderDims{"radius", "height"};
 constexpr std::array<std::string_view, 2> kConeDims{"radius", "height"};
 constexpr std::array<std::string_view, 2> kTorusDims{"major_radius", "minor_radius"};
 constexpr std::array<std::string_view, 3> kBoxDims{"size_x", "size_y", "size_z"};
+constexpr std::array<std::string_view, 2> kPlaneDims{"size_x", "size_y"};
 }  // namespace
 
 std::string_view shape_name(ShapeKind kind) {
@@ -18,6 +19,7 @@ std::string_view shape_name(ShapeKind kind) {
     case ShapeKind::cone: return "cone";
     case ShapeKind::torus: return "torus";
     case ShapeKind::box: return "box";
+    case ShapeKind::plane: return "plane";
   }
   return "unknown";
 }
@@ -35,6 +37,7 @@ std::span<const std::string_view> dimension_names(ShapeKind kind) {
     case ShapeKind::cone: return kConeDims;
     case ShapeKind::torus: return kTorusDims;
     case ShapeKind::box: return kBoxDims;
+    case ShapeKind::plane: return kPlaneDims;
   }
   return {};
 }

@@ -16,8 +16,8 @@ std::vector<int> primitive_priority_order(const VirtualObject& object) {
 
 namespace {
 
-// Boxes have no canonical axis order on a scan: compare sizes sorted largest first,
-// carrying each virtual dimension's weight with it.
+// Boxes and planes have no canonical axis order on a scan: compare sizes sorted largest
+// first, carrying each virtual dimension's weight with it.
 struct Sized {
   double value;
   double weight;
@@ -39,7 +39,7 @@ VoteExplanation score_pair(const VirtualObject& v, int vi, const PhysicalPrimiti
     vd.push_back({prim.dimensions[i].value_m, prim.dimensions[i].weight, static_cast<int>(i)});
     pd.push_back({pp.dimensions_m[i], 0.0, static_cast<int>(i)});
   }
-  if (prim.kind == ShapeKind::box) {
+  if (prim.kind == ShapeKind::box || prim.kind == ShapeKind::plane) {
     auto larger = [](const Sized& a, const Sized& b) { return a.value > b.value; };
     std::stable_sort(vd.begin(), vd.end(), larger);
     std::stable_sort(pd.begin(), pd.end(), larger);

@@ -30,11 +30,12 @@ constexpr std::string_view kExcludeKeys[] = {
     "shape", "prop_height", "radius", "height", "major_radius", "minor_radius",
     "size_x", "size_y", "size_z", "end"};
 constexpr std::string_view kRangeKeys[] = {"min", "max"};
-constexpr std::string_view kObjectKeys[] = {"mesh",      "annexable", "priority",
-                                             "min_vote", "primitive", "end"};
+constexpr std::string_view kObjectKeys[] = {"mesh",     "model_scale", "annexable", "priority",
+                                             "min_vote", "primitive",   "end"};
 constexpr std::string_view kPrimitiveKeys[] = {"priority", "position", "rotation", "end"};
 constexpr std::string_view kDimensionKeys[] = {"priority", "scale"};
-constexpr std::string_view kShapeNames[] = {"sphere", "cylinder", "cone", "torus", "box"};
+constexpr std::string_view kShapeNames[] = {"sphere", "cylinder", "cone", "torus", "box",
+                                            "plane"};
 
 std::string shape_list() {
   std::string out;
@@ -427,7 +428,7 @@ Result<HapticSpec> parse_haptic(std::string_view text, std::string_view origin,
         continue;
       }
       const bool known = key.text == "mesh" || key.text == "annexable" || key.text == "priority" ||
-                         key.text == "min_vote";
+                         key.text == "min_vote" || key.text == "model_scale";
       if (!known) return unknown_key(origin, key, block, kObjectKeys);
       if (auto first = o.keys.find(key.text))
         return duplicate_key(origin, key, "object '" + o.object.name + "'", *first);
@@ -444,6 +445,10 @@ Result<HapticSpec> parse_haptic(std::string_view text, std::string_view origin,
         if (v.quoted || (v.text != "yes" && v.text != "no"))
           return error_at(origin, v, "expected 'yes' or 'no' after 'annexable', found " + shown(v));
         o.object.annexable = v.text == "yes";
+      } else if (key.text == "model_scale") {
+        auto v = r.positive("model_scale");
+        if (!v) return v.error();
+        o.object.model_scale = *v;
       } else if (key.text == "min_vote") {
         auto v = r.number("min_vote");
         if (!v) return v.error();
@@ -535,6 +540,7 @@ Status validate_haptic(const HapticSpec& spec, std::string_view origin) {
     if (!object_index.emplace(o.name, oi).second)
       return fail(where, "duplicate object name '" + o.name + "'");
     if (has_control_char(o.mesh)) return fail(where, "mesh path contains a control character");
+    if (auto msg = check_positive(o.model_scale, "model_scale")) return fail(where, *msg);
     if (auto msg = check_unit_interval(o.priority, "priority")) return fail(where, *msg);
     if (auto msg = check_min_vote(o.min_vote)) return fail(where, *msg);
     if (o.primitives.size() > kMaxPrimitivesPerObject)
@@ -619,6 +625,7 @@ std::string write_haptic(const HapticSpec& spec) {
   for (const VirtualObject& o : spec.objects) {
     out += "\nobject " + o.name + "\n";
     if (!o.mesh.empty()) out += "  mesh " + quote_if_needed(o.mesh) + "\n";
+    if (o.model_scale != 1) out += "  model_scale " + format_number(o.model_scale) + "\n";
     out += std::string("  annexable ") + (o.annexable ? "yes" : "no") + "\n";
     out += "  priority " + format_number(o.priority) + "\n";
     if (o.min_vote != 0) out += "  min_vote " + format_number(o.min_vote) + "\n";

@@ -7,7 +7,11 @@
 #include <assimp/Importer.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string_view>
 #include <limits>
 #include <string>
 
@@ -27,6 +31,82 @@ aiColor4D diffuse_of(const aiScene& scene, const aiMesh& mesh) {
       diffuse = c;
   }
   return diffuse;
+}
+
+// The value of attribute `name` in an XML start tag's text, or "".
+std::string attribute(std::string_view tag, std::string_view name) {
+  const std::string key = " " + std::string(name) + "=";
+  const std::size_t at = tag.find(key);
+  if (at == std::string_view::npos || at + key.size() >= tag.size()) return {};
+  const char quote = tag[at + key.size()];
+  if (quote != '"' && quote != '\'') return {};
+  const std::size_t end = tag.find(quote, at + key.size() + 1);
+  if (end == std::string_view::npos) return {};
+  return std::string(tag.substr(at + key.size() + 1, end - at - key.size() - 1));
+}
+
+// COLLADA's <asset><unit name=... meter=...>, from the head of the file (assimp applies
+// it to the scene but does not report it).
+std::string collada_unit(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(64 * 1024, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  const std::size_t asset_end = head.find("</asset>");
+  const std::size_t at = head.find("<unit");
+  if (at == std::string::npos || (asset_end != std::string::npos && at > asset_end)) return {};
+  const std::size_t close = head.find('>', at);
+  if (close == std::string::npos) return {};
+  return head.substr(at, close - at);
+}
+
+std::string lower_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext;
+}
+
+MeshUnits units_of(const std::filesystem::path& path, const aiScene& scene) {
+  MeshUnits u;
+  const std::string ext = lower_extension(path);
+  if (ext == ".gltf" || ext == ".glb") {
+    u.stated = true;
+    u.note = "glTF: metres by its specification";
+    return u;
+  }
+  if (ext == ".fbx" && scene.mMetaData != nullptr) {
+    // assimp stores it as a float (a double in some versions).
+    double factor = 0;
+    float factor_f = 0;
+    if (scene.mMetaData->Get("UnitScaleFactor", factor_f))
+      factor = factor_f;
+    else
+      scene.mMetaData->Get("UnitScaleFactor", factor);
+    {
+      if (std::isfinite(factor) && factor > 0) {
+        u.stated = true;
+        u.metres_per_unit = factor / 100;  // FBX states centimetres per unit
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "FBX UnitScaleFactor %g (centimetres per unit)", factor);
+        u.note = buf;
+        return u;
+      }
+    }
+  }
+  if (ext == ".dae") {
+    const std::string tag = collada_unit(path);
+    const std::string metres = attribute(tag, "meter");
+    if (!metres.empty()) {
+      u.stated = true;  // assimp has scaled the coordinates to metres already
+      u.note = "COLLADA <unit";
+      const std::string name = attribute(tag, "name");
+      if (!name.empty()) u.note += " name=\"" + name + "\"";
+      u.note += " meter=\"" + metres + "\">, applied by the importer";
+      return u;
+    }
+  }
+  u.note = (ext.empty() ? std::string("the file") : ext.substr(1)) + " states no unit";
+  return u;
 }
 
 }  // namespace
@@ -127,6 +207,7 @@ Result<MeshData> load_mesh(const std::filesystem::path& path) {
   }
   if (out.indices.empty()) return Error{"cannot read mesh: it has no triangles", where};
   update_bounds(out);
+  out.units = units_of(path, *scene);
   return out;
 }
 

@@ -20,9 +20,8 @@ constexpr std::string_view kHeader = "annex-scene";
 // needs, so older readers keep reading the files that need nothing newer.
 constexpr int kVersion = 3;
 constexpr std::string_view kTopKeys[] = {"support", "object"};
-constexpr std::string_view kObjectKeys[] = {"points", "fit", "sphere", "cylinder", "cone",
-                                            "torus",  "box", "end",    "on",       "partial",
-                                            "on_object"};
+constexpr std::string_view kObjectKeys[] = {"points", "fit",   "sphere", "cylinder", "cone",     "torus",
+                                            "box",    "plane", "end",    "on",       "partial", "on_object"};
 constexpr std::string_view kPrimitiveKeys[] = {"center", "axis", "fit"};
 
 Result<Vec3> read_vec3(LineReader& r, std::string_view key) {
@@ -75,8 +74,9 @@ Result<PhysicalPrimitive> parse_primitive(LineReader& r, std::string_view origin
     const Token& key = r.take();
     const int dim = key.quoted ? -1 : dimension_index(kind, key.text);
     const bool narrow = !key.quoted && kind == ShapeKind::cone && key.text == "narrow_radius";
+    const bool x_axis = !key.quoted && kind == ShapeKind::plane && key.text == "x_axis";
     const bool known =
-        dim >= 0 || narrow ||
+        dim >= 0 || narrow || x_axis ||
         (!key.quoted && (key.text == "center" || key.text == "axis" || key.text == "fit"));
     if (!known)
       return error_at(origin, key,
@@ -96,6 +96,10 @@ Result<PhysicalPrimitive> parse_primitive(LineReader& r, std::string_view origin
       if (!v) return v.error();
       p.narrow_radius_m = *v;
       narrow_token = r.last();
+    } else if (x_axis) {
+      auto a = read_direction(r, origin, "x_axis");
+      if (!a) return a.error();
+      p.x_axis = *a;
     } else if (key.text == "center") {
       auto c = read_vec3(r, "center");
       if (!c) return c.error();
@@ -426,6 +430,9 @@ Status validate_scene(const PhysicalScene& scene, std::string_view origin) {
       if (!(p.narrow_radius_m >= 0) || (p.narrow_radius_m > 0 && (p.kind != ShapeKind::cone ||
                                                                    p.narrow_radius_m >= p.dimensions_m[0])))
         return fail(where, "narrow_radius must be 0, or for a cone less than its radius");
+      const bool no_x_axis = p.x_axis.x == 0 && p.x_axis.y == 0 && p.x_axis.z == 0;
+      if (!no_x_axis && (p.kind != ShapeKind::plane || !direction_ok(p.x_axis)))
+        return fail(where, "x_axis must be zero, or for a plane a non-zero vector");
     }
   }
   for (const PhysicalObject& o : scene.objects) {
@@ -444,7 +451,8 @@ std::string write_scene(const PhysicalScene& scene) {
   for (const PhysicalObject& o : scene.objects) {
     v2 = v2 || !o.support_id.empty() || o.partial;
     v3 = v3 || !o.on_object.empty();
-    for (const PhysicalPrimitive& p : o.primitives) v2 = v2 || p.narrow_radius_m > 0;
+    for (const PhysicalPrimitive& p : o.primitives)
+      v2 = v2 || p.narrow_radius_m > 0 || p.kind == ShapeKind::plane;
   }
   v2 = v2 || v3;
   std::string out = std::string(kHeader) + " " + std::to_string(v3 ? kVersion : v2 ? 2 : 1) + "\n";
@@ -485,6 +493,10 @@ std::string write_scene(const PhysicalScene& scene) {
       write_vec3(out, p.center);
       out += " axis ";
       write_vec3(out, p.axis);
+      if (p.kind == ShapeKind::plane && norm(p.x_axis) > 0) {
+        out += " x_axis ";
+        write_vec3(out, p.x_axis);
+      }
       out += " fit " + format_number(p.fit) + "\n";
     }
     out += "end\n";

@@ -8,6 +8,7 @@
 #include "annex/formats/scene_format.h"
 #include "annex/runtime/match_report.h"
 #include "annex/runtime/pcd_io.h"
+#include "annex/runtime/plane_candidates.h"
 #include "annex/runtime/scanner.h"
 #include "commands.h"
 #include "depth_options.h"
@@ -47,7 +48,7 @@ Result<PhysicalScene> load_scene(const std::string& path, const std::optional<st
     failure_code = kExitFailure;
     return e;
   }
-  return std::move(scan->scene);
+  return scene_with_surfaces(*scan);  // objects, then flat surfaces for virtual panels
 }
 
 int run_match(const std::vector<std::string>& args) {

@@ -14,6 +14,7 @@
 #include "annex/formats/scene_format.h"
 #include "annex/runtime/annex_session.h"
 #include "annex/runtime/pcd_io.h"
+#include "annex/runtime/plane_candidates.h"
 #include "annex/runtime/scanner.h"
 #include "annex/runtime/overlay_labels.h"
 #include "annex/runtime/renderer.h"
@@ -37,7 +38,8 @@ Status add_object_overlays(Renderer& renderer, const std::filesystem::path& spec
   if (!object.mesh.empty()) {
     auto mesh = renderer.load_mesh(spec_dir / object.mesh);
     if (mesh) {
-      out.push_back({*mesh, fit.world_from_model, {1, 1, 1, 1}, OverlayStyle::solid});
+      out.push_back(
+          {*mesh, fit.world_from_model * model_from_mesh(object), {1, 1, 1, 1}, OverlayStyle::solid});
       return Ok{};
     }
     why = mesh.error().format();
@@ -124,7 +126,7 @@ int run_render(const std::vector<std::string>& args) {
       }
       Result<ScanResult> scan = scan_frame(*read, scan_params);
       if (scan) {
-        scene = std::move(scan->scene);
+        scene = scene_with_surfaces(*scan);  // its flat surfaces carry virtual panels
       } else {
         Error e = scan.error();
         e.location.origin = scene_arg;

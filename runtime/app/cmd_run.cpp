@@ -46,7 +46,7 @@ std::vector<Drawable> object_drawables(Renderer& renderer, const std::filesystem
   std::string why = "the object names no mesh";
   if (!object.mesh.empty()) {
     auto mesh = renderer.load_mesh(spec_dir / object.mesh);
-    if (mesh) return {{*mesh, Affine{}, {1, 1, 1, 1}}};
+    if (mesh) return {{*mesh, model_from_mesh(object), {1, 1, 1, 1}}};
     why = mesh.error().format();
   }
   std::cerr << "annex-runtime run: note: " << object.name << ": " << why

@@ -9,6 +9,7 @@
 
 #include "annex/formats/scene_format.h"
 #include "annex/runtime/pcd_io.h"
+#include "annex/runtime/plane_candidates.h"
 #include "annex/runtime/scan_overlay.h"
 #include "annex/runtime/scanner.h"
 #include "commands.h"
@@ -42,6 +43,7 @@ std::string primitive_fields(const PhysicalPrimitive& p, const std::optional<Vec
     const double c = dot(normalized(p.axis), normalized(*up));
     out.append(" narrows=").append(c > 0.7 ? "up" : c < -0.7 ? "down" : "side");
   }
+  if (p.kind == ShapeKind::plane) out.append(" x_axis=").append(vec(p.x_axis));
   return out;
 }
 
@@ -129,6 +131,11 @@ int run_scan(const std::vector<std::string>& args) {
                   << " coverage=" << num(c.coverage, 2) << " rms_mm=" << num(c.rms_m * 1000, 1)
                   << "\n";
   }
+  for (const PhysicalObject& o : r.surfaces)
+    if (!o.primitives.empty())
+      std::cout << "surface " << o.id << " " << primitive_fields(o.primitives[0])
+                << " points=" << o.point_count << " support=" << o.support_id
+                << (o.partial ? " partial=1" : "") << "\n";
   if (r.scene.objects.empty())
     std::cerr << "annex-runtime scan: note: no objects stand on the " << r.scene.supports.size()
               << " support(s) found (" << r.plane_inliers
@@ -155,7 +162,7 @@ int run_scan(const std::vector<std::string>& args) {
   }
   if (auto path = parsed->get("scene")) {
     create_parent_dirs(*path);
-    const Status s = write_scene_file(*path, r.scene);
+    const Status s = write_scene_file(*path, scene_with_surfaces(r));
     if (!s) {
       std::cerr << s.error().format() << "\n";
       return kExitBadInput;
@@ -189,6 +196,9 @@ extern const Command kScanCommand = {
     "  object <id> <shape> <dim>=<metres>... center=x,y,z axis=x,y,z points=N fit=F\n"
     "         support=<id> [partial=1]\n"
     "  part <id> <shape> <dim>=<metres>... center=x,y,z axis=x,y,z fit=F   (secondary)\n"
+    "  surface <id> plane size_x=X size_y=Y center=x,y,z axis=x,y,z x_axis=x,y,z\n"
+    "          points=N support=<id>     (a flat surface for a virtual panel: a box's top\n"
+    "          '<object>.top', a support's free rectangle '<support>.free')\n"
     "with ids p1, p2, ... left to right in the image; an object with no fitting shape\n"
     "prints 'object <id> unknown points=N fit=0 support=<id>'. partial=1: cut by the\n"
     "image border or seen by too few points; such objects do not vote by default.\n"
@@ -198,7 +208,8 @@ extern const Command kScanCommand = {
     "  --color RGB.png    the colour image registered to DEPTH.png\n"
     "  --intrinsics LIST  fx,fy,cx,cy in pixels\n"
     "  --depth-scale S    stored value per metre (default 1000; TUM RGB-D 5000)\n"
-    "  --scene OUT.scene  write the objects as a scene file (docs/scene-format.md)\n"
+    "  --scene OUT.scene  write the objects, then the surfaces, as a scene file\n"
+    "                     (docs/scene-format.md)\n"
     "  --png OUT.png      write the camera view with objects coloured and outlined\n"
     "  --config FILE      scan parameters (samples/config/scan.conf, docs/perception.md)\n"
     "  --supports WHICH   whose objects: all (within support_reach_m, the default),\n"

@@ -108,6 +108,7 @@ Symmetry symmetry_of(ShapeKind kind) {
     case ShapeKind::torus:
       return Symmetry::axial;
     case ShapeKind::box:
+    case ShapeKind::plane:
       return Symmetry::none;
   }
   return Symmetry::none;

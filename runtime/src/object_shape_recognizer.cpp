@@ -1067,6 +1067,7 @@ bool within_shape(const ShapeFit& fit, Vec3 p, double margin) {
       return std::abs(dot(q, u)) <= d[0] / 2 + margin && std::abs(dot(q, v)) <= d[1] / 2 + margin &&
              std::abs(along) <= d[2] / 2 + margin;
     }
+    case ShapeKind::plane: return false;  // not a solid: holds no part of an object
   }
   return false;
 }

@@ -134,12 +134,16 @@ MeshData primitive_mesh(ShapeKind kind, const std::vector<double>& d, int segmen
     case ShapeKind::box:
       add_box(m, {d[0] / 2, d[1] / 2, d[2] / 2});
       break;
+    case ShapeKind::plane:  // a 2 mm thick sheet, so it shades from both sides
+      add_box(m, {d[0] / 2, d[1] / 2, 0.001});
+      break;
   }
   update_bounds(m);
   return m;
 }
 
 Affine world_from_physical(const PhysicalPrimitive& p) {
+  if (p.kind == ShapeKind::plane) return affine_from_pose(Pose{p.center, plane_frame(p, false)});
   return affine_from_pose(Pose{p.center, rotation_from_z(p.axis)});
 }
 

@@ -95,6 +95,21 @@ std::vector<Vec3> circle(Vec3 center, Vec3 u, Vec3 v, double r, int n = 48) {
   return out;
 }
 
+// A plane primitive's rectangle with its diagonals (so a panel reads as flat).
+void draw_rectangle(Canvas& c, const Projector& proj, const PhysicalPrimitive& p, Rgb col) {
+  if (p.dimensions_m.size() < 2) return;
+  const Vec3 n = normalized(p.axis);
+  Vec3 u = p.x_axis - n * dot(p.x_axis, n);
+  if (norm(u) < 1e-9) u = rotate(rotation_from_z(n), {1, 0, 0});
+  u = normalized(u);
+  const Vec3 hx = u * (p.dimensions_m[0] / 2), hy = cross(n, u) * (p.dimensions_m[1] / 2);
+  const std::vector<Vec3> corners = {p.center - hx - hy, p.center + hx - hy, p.center + hx + hy,
+                                     p.center - hx + hy};
+  polyline(c, proj, corners, col, true);
+  polyline(c, proj, {corners[0], corners[2]}, col, false);
+  polyline(c, proj, {corners[1], corners[3]}, col, false);
+}
+
 void draw_primitive(Canvas& c, const Projector& proj, const ShapeFit& fit, Rgb col) {
   const PhysicalPrimitive& p = fit.primitive;
   const Vec3 a = normalized(p.axis);
@@ -129,6 +144,7 @@ void draw_primitive(Canvas& c, const Projector& proj, const ShapeFit& fit, Rgb c
       polyline(c, proj, circle(p.center + a * d[1], u, v, d[0]), col, true);
       break;
     }
+    case ShapeKind::plane: draw_rectangle(c, proj, p, col); break;
     case ShapeKind::box: {
       const Vec3 hx = u * (d[0] / 2), hy = v * (d[1] / 2), hz = a * (d[2] / 2);
       std::vector<Vec3> corners;
@@ -250,6 +266,17 @@ RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
       text.append(" on ").append(scan.scene.objects[k].on_object);
     if (partial) text.append(" partial");
     labels.push_back({std::move(text), col, top, bottom, left, right});
+  }
+  // Flat surfaces for virtual panels: rectangles in green, labelled "s1.free plane".
+  for (const PhysicalObject& surface : scan.surfaces) {
+    if (surface.primitives.empty()) continue;
+    const PhysicalPrimitive& p = surface.primitives.front();
+    const Rgb col{80, 255, 120};
+    draw_rectangle(canvas, proj, p, col);
+    const auto at = proj(p.center);
+    if (!std::isfinite(at[0]) || !std::isfinite(at[1])) continue;
+    const int x = static_cast<int>(at[0]), y = static_cast<int>(at[1]);
+    labels.push_back({surface.id + " plane", col, y, y, x, x});
   }
   draw_labels(img.rgb.data(), img.width, img.height, 3, labels);
   return img;

@@ -8,6 +8,7 @@
 //           (Moving Least Squares of order 1): smoothed point and normal;
 //  shapes   ObjectShapeRecognizer per cluster.
 #include "annex/runtime/scanner.h"
+#include "annex/runtime/plane_candidates.h"
 
 #include "annex/runtime/object_segmenter.h"
 #include "occlusion_join.h"
@@ -1236,6 +1237,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   }
   result.stages.push_back({"shapes", ms_since(t0)});
   order_and_name_objects(result);
+  result.surfaces = find_plane_candidates(f, result, params);
   return result;
 }
 

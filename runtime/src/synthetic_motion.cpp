@@ -61,6 +61,7 @@ double center_height(ShapeKind kind, const std::vector<double>& d) {
     case ShapeKind::cone: return d[1] * 0.5;
     case ShapeKind::torus: return d[1];
     case ShapeKind::box: return d[2] * 0.5;
+    case ShapeKind::plane: return 0;
   }
   return 0;
 }
@@ -72,6 +73,7 @@ double bounding_radius(ShapeKind kind, const std::vector<double>& d) {
     case ShapeKind::cone: return std::hypot(d[0], d[1] * 0.5);
     case ShapeKind::torus: return d[0] + d[1];
     case ShapeKind::box: return 0.5 * std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    case ShapeKind::plane: return 0.5 * std::hypot(d[0], d[1]);
   }
   return 0;
 }
@@ -84,6 +86,7 @@ std::vector<double> prop_dimensions(ShapeKind kind, std::mt19937_64& rng) {
     case ShapeKind::torus: return {uniform(rng, 0.05, 0.07), uniform(rng, 0.015, 0.025)};
     case ShapeKind::box:
       return {uniform(rng, 0.07, 0.14), uniform(rng, 0.06, 0.12), uniform(rng, 0.06, 0.14)};
+    case ShapeKind::plane: return {uniform(rng, 0.10, 0.25), uniform(rng, 0.08, 0.20)};
   }
   return {};
 }
@@ -224,6 +227,7 @@ Hit hit_local(ShapeKind kind, const std::vector<double>& dim, Vec3 o, Vec3 d) {
     case ShapeKind::cone: return hit_cone(o, d, dim[0], dim[1]);
     case ShapeKind::torus: return hit_torus(o, d, dim[0], dim[1]);
     case ShapeKind::box: return hit_box(o, d, {dim[0] * 0.5, dim[1] * 0.5, dim[2] * 0.5});
+    case ShapeKind::plane: return hit_box(o, d, {dim[0] * 0.5, dim[1] * 0.5, 0.0005});
   }
   return {};
 }

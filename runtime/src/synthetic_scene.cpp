@@ -51,6 +51,7 @@ double center_height(const SyntheticObject& o) {
     case ShapeKind::cone: return d[1] * 0.5;
     case ShapeKind::torus: return d[1];
     case ShapeKind::box: return d[2] * 0.5;
+    case ShapeKind::plane: return 0;  // a sheet lying on the table
   }
   return 0;
 }
@@ -65,7 +66,8 @@ double footprint_radius(const SyntheticObject& o) {
     case ShapeKind::cylinder:
     case ShapeKind::cone: return d[0];
     case ShapeKind::torus: return d[0] + d[1];
-    case ShapeKind::box: return 0.5 * std::hypot(d[0], d[1]);
+    case ShapeKind::box:
+    case ShapeKind::plane: return 0.5 * std::hypot(d[0], d[1]);
   }
   return 0;
 }
@@ -87,6 +89,7 @@ std::vector<double> random_dimensions(ShapeKind kind, std::mt19937_64& rng) {
     case ShapeKind::torus: return {uniform(rng, 0.04, 0.08), uniform(rng, 0.015, 0.03)};
     case ShapeKind::box:
       return {uniform(rng, 0.05, 0.25), uniform(rng, 0.05, 0.25), uniform(rng, 0.05, 0.25)};
+    case ShapeKind::plane: return {uniform(rng, 0.10, 0.30), uniform(rng, 0.10, 0.30)};
   }
   return {};
 }
@@ -293,6 +296,7 @@ LocalHit hit_object(const SyntheticObject& obj, Vec3 origin, Vec3 dir) {
     }
     case ShapeKind::torus: h = hit_torus(o, d, dim[0], dim[1]); break;
     case ShapeKind::box: h = hit_box(o, d, {dim[0] * 0.5, dim[1] * 0.5, dim[2] * 0.5}); break;
+    case ShapeKind::plane: h = hit_box(o, d, {dim[0] * 0.5, dim[1] * 0.5, 0.0005}); break;
   }
   h.normal = rotate_z(h.normal, yaw);
   return h;

@@ -56,6 +56,7 @@ Vec3 half_extents(const Primitive& p) {
     case ShapeKind::cone: return {v(0), v(0), v(1) / 2};
     case ShapeKind::torus: return {v(0) + v(1), v(0) + v(1), v(1)};
     case ShapeKind::box: return {v(0) / 2, v(1) / 2, v(2) / 2};
+    case ShapeKind::plane: return {v(0) / 2, v(1) / 2, 0};
   }
   return {};
 }
@@ -89,6 +90,11 @@ double surface_distance(const Primitive& p, Vec3 l) {
       const double d[3] = {std::abs(l.x) - h.x, std::abs(l.y) - h.y, std::abs(l.z) - h.z};
       if (d[0] <= 0 && d[1] <= 0 && d[2] <= 0) return -std::max({d[0], d[1], d[2]});
       return std::hypot(std::max(d[0], 0.0), std::max(d[1], 0.0), std::max(d[2], 0.0));
+    }
+    case ShapeKind::plane: {  // to the rectangle
+      const double dx = std::max(std::abs(l.x) - v(0) / 2, 0.0);
+      const double dy = std::max(std::abs(l.y) - v(1) / 2, 0.0);
+      return std::hypot(dx, dy, l.z);
     }
   }
   return 0;
@@ -126,6 +132,9 @@ std::vector<Vec3> primitive_samples(const Primitive& p) {
         local.push_back({rho * std::cos(t), rho * std::sin(t), v(1) * std::sin(beta)});
         break;
       }
+      case ShapeKind::plane:
+        local.push_back({(a - 0.5) * v(0), (b - 0.5) * v(1), 0});
+        break;
       case ShapeKind::box: {
         const Vec3 h = half_extents(p);
         const double area[3] = {h.y * h.z, h.x * h.z, h.x * h.y};

@@ -111,11 +111,12 @@ inline HapticSpec random_spec(Gen& g) {
     VirtualObject o;
     o.name = g.name() + "_o" + std::to_string(oi);  // unique by construction
     if (g.coin()) o.mesh = g.path();
+    if (g.coin()) o.model_scale = g.positive();
     o.annexable = g.integer(0, 4) != 0;
     o.priority = g.unit();
     const int prims = o.annexable ? g.integer(1, 4) : g.integer(0, 2);
     for (int pi = 0; pi < prims; ++pi) {
-      const ShapeKind kind = kAllShapes[g.integer(0, 4)];
+      const ShapeKind kind = kAllShapes[g.integer(0, 5)];
       Primitive p = make_primitive(kind, g.name() + "_p" + std::to_string(pi));
       p.weight = g.unit();
       p.pose.position = Vec3{g.any(), g.any(), g.any()};
@@ -147,7 +148,7 @@ inline PhysicalScene random_scene(Gen& g) {
     const int prims = g.integer(0, 3);
     for (int pi = 0; pi < prims; ++pi) {
       PhysicalPrimitive p;
-      p.kind = kAllShapes[g.integer(0, 4)];
+      p.kind = kSolidShapes[g.integer(0, 4)];  // planes make a version-2 scene (ScenePlane tests)
       for (int d = 0; d < dimension_count(p.kind); ++d) p.dimensions_m.push_back(g.positive());
       if (p.kind == ShapeKind::torus && p.dimensions_m[1] >= p.dimensions_m[0])
         p.dimensions_m[1] = p.dimensions_m[0] / 2;

@@ -178,7 +178,7 @@ TEST(HapticFormat, InvalidInputsReportMessageLineAndColumn) {
       {"unknown object key", obj("  meshh x\n"), 3, 3,
        "unknown key 'meshh' in object 'a'; did you mean 'mesh'?"},
       {"unknown object key no suggestion", obj("  colour red\n"), 3, 3,
-       "unknown key 'colour' in object 'a'; expected one of: mesh, annexable, priority, min_vote, "
+       "unknown key 'colour' in object 'a'; expected one of: mesh, model_scale, annexable, priority, min_vote, "
        "primitive, end"},
       {"duplicate object key", obj("  annexable no\n  annexable no\n"), 4, 3,
        "duplicate key 'annexable' in object 'a' (first at line 3)"},
@@ -223,7 +223,7 @@ TEST(HapticFormat, InvalidInputsReportMessageLineAndColumn) {
       {"primitive missing name", obj("  primitive\n"), 3, 12,
        "expected primitive name after 'primitive'"},
       {"primitive missing shape", obj("  primitive p\n"), 3, 14,
-       "expected a shape after 'primitive p' (one of: sphere, cylinder, cone, torus, box)"},
+       "expected a shape after 'primitive p' (one of: sphere, cylinder, cone, torus, box, plane)"},
       {"primitive unknown shape", obj("  primitive p cylindre\n"), 3, 15,
        "unknown shape 'cylindre'; did you mean 'cylinder'?"},
       {"primitive trailing", obj("  primitive p box x\n"), 3, 19,

@@ -110,6 +110,12 @@ struct ReplacePrimitive {
   int primitive = -1;
   Primitive value;
 };
+// Sets the object's model_scale (metres per mesh unit). Its primitives stay attached
+// to the mesh: their positions and sizes scale by new / old, in the same undo step.
+struct SetModelScale {
+  int object = -1;
+  double model_scale = 1;
+};
 struct Select {
   Selection selection;
 };
@@ -126,7 +132,8 @@ using Command =
                  cmd::SetAnnexable, cmd::AddPrimitive, cmd::RemovePrimitive,
                  cmd::DuplicatePrimitive, cmd::RenamePrimitive, cmd::SetKind, cmd::SetPose,
                  cmd::SetDimension, cmd::SetScaleLimits, cmd::SetWeight, cmd::SetRank,
-                 cmd::ReplacePrimitive, cmd::Select, cmd::EndEdit, cmd::Undo, cmd::Redo>;
+                 cmd::ReplacePrimitive, cmd::Select, cmd::EndEdit, cmd::Undo, cmd::Redo,
+                 cmd::SetModelScale>;
 
 // Things only the app can do (files, dialogs, the window); panels request them.
 struct AppAction {

@@ -49,8 +49,11 @@ class EditorDocument {
   std::uint64_t revision() const { return revision_; }
   const std::vector<std::string>& warnings() const { return warnings_; }
 
-  // The mesh of a virtual object, or null when it has none or it failed to load.
+  // The mesh of a virtual object scaled by its model_scale (in metres of the scene,
+  // like its primitives), or null when it has none or it failed to load.
   const MeshData* mesh_for(int object) const;
+  // The same mesh as the file holds it (its own units; units says what the file states).
+  const MeshData* source_mesh_for(int object) const;
   // Absolute path of a mesh as the spec names it (relative to the spec's folder).
   std::filesystem::path resolve_mesh_path(const std::string& mesh) const;
   // How the spec should name a mesh file: relative to the spec's folder, or absolute
@@ -95,6 +98,8 @@ class EditorDocument {
   std::vector<UndoStep> history_;
   std::size_t undo_pos_ = 0;                                       // steps [0, undo_pos_) are done
   std::map<std::string, std::shared_ptr<const MeshData>> meshes_;  // by absolute path
+  // mesh_for's scaled copies, by absolute path and scale.
+  mutable std::map<std::pair<std::string, double>, std::shared_ptr<const MeshData>> scaled_;
   std::vector<std::string> warnings_;
 };
 

@@ -4,6 +4,7 @@
 // document commands run here, view commands (screenshot, frames) in the app.
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,5 +35,13 @@ Result<ScriptResult> run_document_command(EditorDocument& doc, const ScriptLine&
 
 // Parses a whole strictly ("1.5" yes, "1.5x" no).
 bool parse_double(std::string_view text, double& out);
+
+// Metres per unit of "mm", "cm", "m", "in", "ft"; none for another name.
+std::optional<double> metres_per_unit(std::string_view unit);
+// A mesh's height in its own units: its extent along the editor's up axis (+Y).
+double model_height_units(const MeshData& mesh);
+// "model duck: model_scale 0.078; size 0.129 x 0.120 x 0.090 m (x, y up, z); units:
+// COLLADA <unit ...>, applied by the importer", what the inspector shows too.
+std::string describe_model_size(const EditorDocument& doc, int object);
 
 }  // namespace annex::authoring

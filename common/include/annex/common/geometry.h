@@ -47,6 +47,8 @@ inline Vec3 rotate(Quat q, Vec3 v) {
 }
 // Rotation taking +Z onto `axis` (the axis convention of every primitive).
 Quat rotation_from_z(Vec3 axis);
+// Rotation whose columns are the right-handed orthonormal axes x, y, z.
+Quat rotation_from_axes(Vec3 x, Vec3 y, Vec3 z);
 
 // Rigid pose of a primitive relative to its virtual object, or of a physical
 // primitive in the sensor frame. A primitive's own axis is its local +Z.

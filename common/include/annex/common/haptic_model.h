@@ -39,6 +39,10 @@ struct VirtualObject {
   double priority = 1.0;     // w_o in [0, 1]
   std::vector<Primitive> primitives;  // as authored; the Voter ranks them by w_s
   double min_vote = 0.0;  // a prop voting less is never matched (docs/voting.md)
+  // Metres per mesh unit: the visual mesh is drawn scaled by it (a model authored in
+  // centimetres has 0.01, a duck modelled 1.6 m tall but 12 cm in the scene 0.075).
+  // Primitive positions and sizes are in metres of the scaled model.
+  double model_scale = 1.0;
   bool operator==(const VirtualObject&) const = default;
 };
 

@@ -16,12 +16,14 @@ struct PhysicalPrimitive {
   ShapeKind kind = ShapeKind::cylinder;
   std::vector<double> dimensions_m;  // dimension_count(kind) entries, dimension_names order
   Vec3 center;                       // centre of the fitted shape
-  Vec3 axis{0, 0, 1};                // symmetry axis (box: its local z axis)
+  Vec3 axis{0, 0, 1};                // symmetry axis (box: its local z axis; plane: its normal)
   double fit = 1.0;                  // share of the object's points the shape explains, [0, 1]
   // Cone only: the radius at its narrow end, 0 for a pointed cone. A frustum (a cup,
   // a bowl, a lampshade) is a cone whose tip is cut off; `axis` runs from the wide end
   // to the narrow one, so it points down for a cup standing on its foot.
   double narrow_radius_m = 0.0;
+  // Plane only: the direction of its size_x side, in the plane; zero when unknown.
+  Vec3 x_axis{0, 0, 0};
   bool operator==(const PhysicalPrimitive&) const = default;
 };
 

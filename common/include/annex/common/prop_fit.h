@@ -42,6 +42,14 @@ struct PropFit {
 // Returns factors along the primitive's local x, y, z.
 PropFit fit_to_prop(const Primitive& virtual_primitive, const PhysicalPrimitive& physical);
 
+// Maps the visual mesh's coordinates to the model's (metres): its model_scale. The
+// mesh is drawn at world_from_model * model_from_mesh(object).
+Affine model_from_mesh(const VirtualObject& object);
+
+// A physical plane's frame: z its normal, x its size_x side (x_axis), or x its size_y
+// side when `swap_sides` (the virtual panel's size_x pairs with the physical size_y).
+Quat plane_frame(const PhysicalPrimitive& plane, bool swap_sides);
+
 // The same scaling with a chosen factor per dimension, for previews at the
 // developer's limits (e.g. every dimension at its min_scale).
 Vec3 local_scale_for(const Primitive& p, const std::vector<double>& factors);

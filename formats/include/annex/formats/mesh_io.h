@@ -15,6 +15,19 @@
 
 namespace annex {
 
+/// What a mesh file says about its units. Game artists' meshes come in millimetres,
+/// centimetres, inches or arbitrary units; glTF is metres by its specification, FBX
+/// states a unit scale factor and COLLADA a `<unit meter="...">`.
+struct MeshUnits {
+  /// Metres per unit of the loaded coordinates, as the file states it (1 when it
+  /// states none). A virtual object's model_scale starts from this.
+  double metres_per_unit = 1.0;
+  bool stated = false;  ///< the file states its unit
+  /// What was found, for people: "COLLADA <unit name=\"centimeter\" meter=\"0.01\">,
+  /// applied by the importer", "FBX UnitScaleFactor 100 (cm per unit)", "OBJ states no unit".
+  std::string note;
+};
+
 /// Triangles with per-vertex normals and colours, flattened from whatever node
 /// hierarchy the imported file had. Positions are in the model's own frame and
 /// units (metres for our samples).
@@ -25,6 +38,7 @@ struct MeshData {
   std::vector<std::uint32_t> indices;  ///< three per triangle, each < vertex_count()
   Vec3 min;                            ///< axis-aligned bounds of the positions
   Vec3 max;
+  MeshUnits units;                     ///< the unit the file states (load_mesh fills it)
 
   std::size_t vertex_count() const { return positions.size() / 3; }
   std::size_t triangle_count() const { return indices.size() / 3; }

@@ -163,6 +163,8 @@ struct ScanResult {
   std::vector<Vec3> hull;            // its convex hull, on the plane
   std::vector<ScanSupport> supports;  // every support found, selected or not
   std::vector<ScanCluster> clusters; // same order as scene.objects
+  // Flat surfaces for virtual panels (plane_candidates.h), apart from scene.objects.
+  std::vector<PhysicalObject> surfaces;
   int plane_inliers = 0;
   std::vector<StageTime> stages;     // plane, prism, clusters, mls, shapes
 };

@@ -33,7 +33,7 @@ namespace annex {
 struct SyntheticSceneParams {
   std::uint64_t seed = 1;
   int object_count = 4;
-  std::vector<ShapeKind> kinds{std::begin(kAllShapes), std::end(kAllShapes)};
+  std::vector<ShapeKind> kinds{std::begin(kSolidShapes), std::end(kSolidShapes)};
   CameraIntrinsics camera;
   double camera_distance_min_m = 0.8;  // from the camera to its aim point on the table
   double camera_distance_max_m = 1.2;

@@ -1,0 +1,279 @@
+// Flat surfaces for virtual panels (plane_candidates.h): box tops from the recognizer's
+// boxes, free rectangles of supports from an occupancy grid on each support's plane.
+#include "annex/runtime/plane_candidates.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include "annex/runtime/object_shape_recognizer.h"
+#include "annex/runtime/scanner.h"
+
+namespace annex {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+PhysicalObject plane_object(std::string id, Vec3 center, Vec3 normal, Vec3 side_a, double a,
+                            Vec3 side_b, double b) {
+  // size_x is the longer side, x_axis runs along it.
+  if (b > a) {
+    std::swap(a, b);
+    std::swap(side_a, side_b);
+  }
+  PhysicalPrimitive p;
+  p.kind = ShapeKind::plane;
+  p.dimensions_m = {a, b};
+  p.center = center;
+  p.axis = normalized(normal);
+  p.x_axis = normalized(side_a - p.axis * dot(side_a, p.axis));
+  PhysicalObject o;
+  o.id = std::move(id);
+  o.primitives.push_back(p);
+  return o;
+}
+
+// A box's face for a panel, when it was seen: the broad face of a slab (a book, a
+// tablet, a laptop's lid) on the side the camera sees, whichever way it faces; else the
+// top face of a box standing on its support.
+std::optional<PhysicalObject> box_face(const ScanCluster& sc, const PhysicalObject& object,
+                                      const PlaneCandidateParams& params, double band) {
+  if (sc.shape.primitives.empty()) return std::nullopt;
+  const ShapeFit& fit = sc.shape.primitives.front();
+  const PhysicalPrimitive& box = fit.primitive;
+  if (box.kind != ShapeKind::box || box.dimensions_m.size() < 3) return std::nullopt;
+  const Vec3 up = normalized(sc.support.normal);
+  const Vec3 a = normalized(box.axis);
+  const Vec3 u = normalized(fit.x_axis - a * dot(fit.x_axis, a));
+  const Vec3 axes[3] = {u, cross(a, u), a};
+  int thinnest = 0;
+  for (int k = 1; k < 3; ++k)
+    if (box.dimensions_m[static_cast<size_t>(k)] < box.dimensions_m[static_cast<size_t>(thinnest)])
+      thinnest = k;
+  const double broad = std::min(box.dimensions_m[static_cast<size_t>((thinnest + 1) % 3)],
+                                box.dimensions_m[static_cast<size_t>((thinnest + 2) % 3)]);
+  const bool slab = box.dimensions_m[static_cast<size_t>(thinnest)] < params.slab_ratio * broad;
+  int top = 0;
+  Vec3 n;
+  std::string name = ".top";
+  if (slab) {
+    top = thinnest;
+    // The camera is at the sensor frame's origin.
+    n = dot(axes[top], box.center) <= 0 ? axes[top] : axes[top] * -1.0;
+    if (std::abs(dot(axes[top], up)) < std::cos(params.max_face_tilt_deg * kPi / 180)) name = ".face";
+  } else {
+    for (int k = 1; k < 3; ++k)
+      if (std::abs(dot(axes[k], up)) > std::abs(dot(axes[top], up))) top = k;
+    const double c = std::abs(dot(axes[top], up));
+    if (c < std::cos(params.max_face_tilt_deg * kPi / 180)) return std::nullopt;
+    n = dot(axes[top], up) >= 0 ? axes[top] : axes[top] * -1.0;
+  }
+  const Vec3 center = box.center + n * (box.dimensions_m[static_cast<size_t>(top)] / 2);
+  const int i = (top + 1) % 3, j = (top + 2) % 3;
+  const double si = box.dimensions_m[static_cast<size_t>(i)];
+  const double sj = box.dimensions_m[static_cast<size_t>(j)];
+  if (std::min(si, sj) < params.min_side_m) return std::nullopt;
+  // The face was seen: enough of the box's points lie on it.
+  int on_face = 0;
+  for (const Vec3& q : sc.points) {
+    const Vec3 r = q - center;
+    on_face += std::abs(dot(r, n)) <= band && std::abs(dot(r, axes[i])) <= si / 2 + band &&
+               std::abs(dot(r, axes[j])) <= sj / 2 + band;
+  }
+  const double share = sc.points.empty() ? 0.0 : static_cast<double>(on_face) / sc.points.size();
+  if (share < params.min_face_share) return std::nullopt;
+  PhysicalObject o = plane_object(object.id + name, center, n, axes[i], si, axes[j], sj);
+  o.point_count = on_face;
+  o.fit = share;
+  o.support_id = object.support_id;
+  o.partial = object.partial;
+  return o;
+}
+
+// Largest all-true axis-aligned rectangle of a grid (rows x cols), by the histogram
+// method: {row0, col0, rows, cols}, rows = 0 when none.
+std::array<int, 4> largest_rectangle(const std::vector<char>& cells, int rows, int cols) {
+  std::vector<int> height(static_cast<size_t>(cols), 0);
+  std::array<int, 4> best{0, 0, 0, 0};
+  long best_area = 0;
+  std::vector<int> stack;
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c)
+      height[c] = cells[static_cast<size_t>(r) * cols + c] ? height[c] + 1 : 0;
+    stack.clear();
+    for (int c = 0; c <= cols; ++c) {
+      const int h = c < cols ? height[c] : 0;
+      while (!stack.empty() && height[stack.back()] >= h) {
+        const int top = stack.back();
+        stack.pop_back();
+        const int left = stack.empty() ? 0 : stack.back() + 1;
+        const long area = static_cast<long>(height[top]) * (c - left);
+        if (area > best_area) {
+          best_area = area;
+          best = {r - height[top] + 1, left, height[top], c - left};
+        }
+      }
+      stack.push_back(c);
+    }
+  }
+  return best;
+}
+
+// Chebyshev dilation of a grid by `radius` cells (separable running maximum).
+std::vector<char> dilate(const std::vector<char>& in, int rows, int cols, int radius) {
+  if (radius <= 0) return in;
+  std::vector<char> tmp(in.size(), 0), out(in.size(), 0);
+  for (int r = 0; r < rows; ++r) {
+    int last = -radius - 1;  // column of the last set cell seen
+    for (int c = 0; c < cols + radius; ++c) {
+      if (c < cols && in[static_cast<size_t>(r) * cols + c]) last = c;
+      const int at = c - radius;
+      if (at >= 0 && at < cols && c - last <= 2 * radius) tmp[static_cast<size_t>(r) * cols + at] = 1;
+    }
+  }
+  for (int c = 0; c < cols; ++c) {
+    int last = -radius - 1;
+    for (int r = 0; r < rows + radius; ++r) {
+      if (r < rows && tmp[static_cast<size_t>(r) * cols + c]) last = r;
+      const int at = r - radius;
+      if (at >= 0 && at < rows && r - last <= 2 * radius) out[static_cast<size_t>(at) * cols + c] = 1;
+    }
+  }
+  return out;
+}
+
+std::vector<char> invert(std::vector<char> v) {
+  for (char& x : v) x = !x;
+  return v;
+}
+
+// The support's free rectangle: cells where its surface was seen and nothing stands
+// within the clearance, in a grid aligned with the hull's minimum-area rectangle (a
+// table's edges).
+std::optional<PhysicalObject> free_region(const Frame& frame, const ScanSupport& sp,
+                                          const ScanParams& scan_params,
+                                          const PlaneCandidateParams& params) {
+  if (sp.hull.size() < 3 || params.cell_m <= 0) return std::nullopt;
+  const Vec3 n = normalized(sp.surface.plane.normal);
+  const double d = sp.surface.plane.d;
+  // Minimum-area rectangle: one of its sides lies along a hull edge.
+  double best_area = std::numeric_limits<double>::infinity();
+  Vec3 e_best{}, origin{};
+  double len_e = 0, len_w = 0;
+  for (size_t k = 0; k < sp.hull.size(); ++k) {
+    Vec3 e = sp.hull[(k + 1) % sp.hull.size()] - sp.hull[k];
+    e = e - n * dot(e, n);
+    if (norm(e) < 1e-6) continue;
+    e = normalized(e);
+    const Vec3 w = cross(n, e);
+    double lo_e = 1e18, hi_e = -1e18, lo_w = 1e18, hi_w = -1e18;
+    for (const Vec3& q : sp.hull) {
+      lo_e = std::min(lo_e, dot(q, e)), hi_e = std::max(hi_e, dot(q, e));
+      lo_w = std::min(lo_w, dot(q, w)), hi_w = std::max(hi_w, dot(q, w));
+    }
+    const double area = (hi_e - lo_e) * (hi_w - lo_w);
+    if (area < best_area) {
+      best_area = area;
+      e_best = e;
+      len_e = hi_e - lo_e;
+      len_w = hi_w - lo_w;
+      origin = e * lo_e + w * lo_w - n * d;  // a point of the plane: n.origin + d = 0
+    }
+  }
+  if (!std::isfinite(best_area)) return std::nullopt;
+  const Vec3 e = e_best, w = cross(n, e);
+  // At most 1000 cells a side: a far floor gets coarser cells.
+  const double cell = std::max(params.cell_m, std::max(len_e, len_w) / 1000);
+  const int cols = std::max(1, static_cast<int>(std::ceil(len_e / cell)));
+  const int rows = std::max(1, static_cast<int>(std::ceil(len_w / cell)));
+  std::vector<char> seen(static_cast<size_t>(rows) * cols, 0), blocked(seen.size(), 0);
+  std::vector<int> count(seen.size(), 0);
+  for (const PointXYZRGB& p : frame.points) {
+    if (!std::isfinite(p.z) || p.z <= 0 || p.z > scan_params.max_depth_m) continue;
+    const Vec3 q{p.x, p.y, p.z};
+    const double h = dot(n, q) + d;
+    const double band =
+        std::max(scan_params.plane_distance_m, scan_params.plane_noise_factor * kinect_sigma_z(p.z));
+    if (h < -band || h > scan_params.max_height_m) continue;
+    const Vec3 r = q - origin;
+    const int c = static_cast<int>(std::floor(dot(r, e) / cell));
+    const int rr = static_cast<int>(std::floor(dot(r, w) / cell));
+    if (c < 0 || rr < 0 || c >= cols || rr >= rows) continue;
+    const size_t at = static_cast<size_t>(rr) * cols + c;
+    if (h <= band) {
+      seen[at] = 1;
+      ++count[at];
+    } else {
+      blocked[at] = 1;  // something stands there, up to the prism's top
+    }
+  }
+  // Close pinholes between the pixels of a surface seen at a slant, then keep clear of
+  // whatever stands on it.
+  seen = invert(dilate(invert(dilate(seen, rows, cols, 1)), rows, cols, 1));
+  const int clear = static_cast<int>(std::ceil(params.clearance_m / cell));
+  const std::vector<char> near_object = dilate(blocked, rows, cols, clear);
+  std::vector<char> free_cells(seen.size(), 0);
+  for (size_t i = 0; i < seen.size(); ++i) free_cells[i] = seen[i] && !near_object[i];
+  const auto [r0, c0, nr, nc] = largest_rectangle(free_cells, rows, cols);
+  const double size_e = nc * cell, size_w = nr * cell;
+  if (nr == 0 || std::min(size_e, size_w) < params.min_side_m) return std::nullopt;
+  const Vec3 center = origin + e * ((c0 + nc / 2.0) * cell) + w * ((r0 + nr / 2.0) * cell);
+  PhysicalObject o =
+      plane_object(sp.surface.id + ".free", center, n, e, size_e, w, size_w);
+  int points = 0;
+  for (int r = r0; r < r0 + nr; ++r)
+    for (int c = c0; c < c0 + nc; ++c) points += count[static_cast<size_t>(r) * cols + c];
+  o.point_count = points;
+  o.fit = 1.0;
+  o.support_id = sp.surface.id;
+  return o;
+}
+
+}  // namespace
+
+std::vector<PhysicalObject> find_plane_candidates(const Frame& frame, const ScanResult& scan,
+                                                  const ScanParams& scan_params,
+                                                  const PlaneCandidateParams& params) {
+  std::vector<PhysicalObject> out;
+  for (size_t k = 0; k < scan.clusters.size() && k < scan.scene.objects.size(); ++k) {
+    const double z = scan.scene.objects[k].primitives.empty()
+                         ? 1.0
+                         : scan.scene.objects[k].primitives.front().center.z;
+    const double band = std::max(scan_params.plane_distance_m,
+                                 scan_params.plane_noise_factor * kinect_sigma_z(z));
+    if (auto face = box_face(scan.clusters[k], scan.scene.objects[k], params, band))
+      out.push_back(std::move(*face));
+  }
+  const size_t faces = out.size();
+  for (const ScanSupport& sp : scan.supports)
+    if (sp.selected)
+      if (auto region = free_region(frame, sp, scan_params, params)) out.push_back(std::move(*region));
+  // A box whose top the scanner also found as a support (a carton's lid of 20 x 20 cm)
+  // is reported once, as that support's free region (measured on the plane's points).
+  std::vector<PhysicalObject> kept;
+  for (size_t i = 0; i < out.size(); ++i) {
+    bool repeated = false;
+    const PhysicalPrimitive& a = out[i].primitives.front();
+    for (size_t j = faces; j < out.size() && i < faces && !repeated; ++j) {
+      const PhysicalPrimitive& b = out[j].primitives.front();
+      const Vec3 r = a.center - b.center;
+      const Vec3 y = cross(b.axis, b.x_axis);
+      repeated = std::abs(dot(r, b.axis)) <= scan_params.plane_distance_m * 2 &&
+                 std::abs(dot(r, b.x_axis)) <= b.dimensions_m[0] / 2 &&
+                 std::abs(dot(r, y)) <= b.dimensions_m[1] / 2;
+    }
+    if (!repeated) kept.push_back(std::move(out[i]));
+  }
+  return kept;
+}
+
+PhysicalScene scene_with_surfaces(const ScanResult& scan) {
+  PhysicalScene scene = scan.scene;
+  scene.objects.insert(scene.objects.end(), scan.surfaces.begin(), scan.surfaces.end());
+  return scene;
+}
+
+}  // namespace annex
