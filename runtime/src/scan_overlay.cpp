@@ -271,8 +271,10 @@ RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
   for (const PhysicalObject& surface : scan.surfaces) {
     if (surface.primitives.empty()) continue;
     const PhysicalPrimitive& p = surface.primitives.front();
-    const Rgb col{80, 255, 120};
+    // A surface of a partial object does not vote: grey and unlabelled, like its object.
+    const Rgb col = surface.partial ? Rgb{140, 140, 140} : Rgb{80, 255, 120};
     draw_rectangle(canvas, proj, p, col);
+    if (surface.partial) continue;
     const auto at = proj(p.center);
     if (!std::isfinite(at[0]) || !std::isfinite(at[1])) continue;
     const int x = static_cast<int>(at[0]), y = static_cast<int>(at[1]);
