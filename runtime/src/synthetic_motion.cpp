@@ -1,5 +1,5 @@
 // Hand-speed sequences: props in any orientation, a gripping hand, a moving head.
-// Plain arithmetic like synthetic_scene.cpp, with its own ray caster for posed solids.
+// Plain arithmetic like synthetic_scene.cpp, on the same ray caster (shape_rays.h).
 #include "annex/runtime/synthetic_motion.h"
 
 #include <algorithm>
@@ -12,9 +12,13 @@
 
 #include "annex/runtime/icp_tracker.h"
 #include "annex/runtime/rigid_motion.h"
+#include "shape_rays.h"
 
 namespace annex {
 namespace {
+
+using namespace shape_rays;
+using Hit = LocalHit;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMinT = 1e-6;
@@ -92,133 +96,6 @@ std::vector<double> prop_dimensions(ShapeKind kind, std::mt19937_64& rng) {
 }
 
 // ---- ray casting in a solid's local frame (centre at the origin, axis +Z) ----
-
-struct Hit {
-  double t = kInf;
-  Vec3 normal;  // local frame
-};
-
-void consider(Hit& best, double t, Vec3 n) {
-  if (t > kMinT && t < best.t) best = {t, n};
-}
-
-// Roots of a t^2 + 2 b t + c = 0, nearest first, offered to `accept` until it takes one.
-template <typename Accept>
-void quadratic(double a, double b, double c, Accept accept) {
-  if (std::abs(a) < 1e-15) {
-    if (std::abs(b) > 1e-15) accept(-c / (2 * b));
-    return;
-  }
-  const double disc = b * b - a * c;
-  if (disc < 0) return;
-  const double sq = std::sqrt(disc);
-  double t0 = (-b - sq) / a, t1 = (-b + sq) / a;
-  if (t0 > t1) std::swap(t0, t1);
-  if (!accept(t0)) accept(t1);
-}
-
-Hit hit_sphere(Vec3 o, Vec3 d, double r) {
-  Hit h;
-  quadratic(dot(d, d), dot(o, d), dot(o, o) - r * r, [&](double t) {
-    if (t <= kMinT) return false;
-    consider(h, t, normalized(o + d * t));
-    return true;
-  });
-  return h;
-}
-
-Hit hit_cylinder(Vec3 o, Vec3 d, double r, double height) {
-  Hit h;
-  const double hh = height * 0.5;
-  quadratic(d.x * d.x + d.y * d.y, o.x * d.x + o.y * d.y, o.x * o.x + o.y * o.y - r * r,
-            [&](double t) {
-              if (t <= kMinT) return false;
-              const Vec3 p = o + d * t;
-              if (std::abs(p.z) > hh) return false;
-              consider(h, t, normalized(Vec3{p.x, p.y, 0}));
-              return true;
-            });
-  if (std::abs(d.z) > 1e-15)
-    for (double zc : {hh, -hh}) {
-      const double t = (zc - o.z) / d.z;
-      const Vec3 p = o + d * t;
-      if (p.x * p.x + p.y * p.y <= r * r) consider(h, t, {0, 0, zc > 0 ? 1.0 : -1.0});
-    }
-  return h;
-}
-
-// Base (radius r) at z = -height/2, apex at +height/2.
-Hit hit_cone(Vec3 o, Vec3 d, double r, double height) {
-  Hit h;
-  const double hh = height * 0.5;
-  const double k2 = (r / height) * (r / height);
-  const double w0 = hh - o.z;
-  quadratic(d.x * d.x + d.y * d.y - k2 * d.z * d.z, o.x * d.x + o.y * d.y + k2 * w0 * d.z,
-            o.x * o.x + o.y * o.y - k2 * w0 * w0, [&](double t) {
-              if (t <= kMinT) return false;
-              const Vec3 p = o + d * t;
-              const double w = hh - p.z;
-              if (w < 0 || w > height) return false;
-              consider(h, t, normalized(Vec3{p.x, p.y, k2 * w}));
-              return true;
-            });
-  if (std::abs(d.z) > 1e-15) {
-    const double t = (-hh - o.z) / d.z;
-    const Vec3 p = o + d * t;
-    if (p.x * p.x + p.y * p.y <= r * r) consider(h, t, {0, 0, -1});
-  }
-  return h;
-}
-
-// Sphere tracing on the torus's exact distance, from where the ray enters its bound.
-Hit hit_torus(Vec3 o, Vec3 d, double major, double minor) {
-  Hit h;
-  const double len = norm(d);
-  const Vec3 dn = d * (1.0 / len);
-  const double bound = major + minor + 1e-4;
-  const double b = dot(o, dn), c = dot(o, o) - bound * bound;
-  const double disc = b * b - c;
-  if (disc < 0) return h;
-  const double s_exit = -b + std::sqrt(disc);
-  double s = std::max(0.0, -b - std::sqrt(disc));
-  for (int i = 0; i < 512 && s <= s_exit; ++i) {
-    const Vec3 p = o + dn * s;
-    const double q = std::hypot(p.x, p.y) - major;
-    const double f = std::hypot(q, p.z) - minor;
-    if (f < 1e-7) {
-      const double rho = std::max(1e-12, std::hypot(p.x, p.y));
-      consider(h, s / len, normalized(Vec3{q * p.x / rho, q * p.y / rho, p.z}));
-      return h;
-    }
-    s += f;
-  }
-  return h;
-}
-
-Hit hit_box(Vec3 o, Vec3 d, Vec3 half) {
-  Hit h;
-  double t_near = -kInf, t_far = kInf;
-  int axis = -1;
-  double sign = 0;
-  const double oo[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z}, hh[3] = {half.x, half.y, half.z};
-  for (int i = 0; i < 3; ++i) {
-    if (std::abs(dd[i]) < 1e-15) {
-      if (std::abs(oo[i]) > hh[i]) return h;
-      continue;
-    }
-    double t0 = (-hh[i] - oo[i]) / dd[i], t1 = (hh[i] - oo[i]) / dd[i];
-    double s = -1;
-    if (t0 > t1) std::swap(t0, t1), s = 1;
-    if (t0 > t_near) t_near = t0, axis = i, sign = s;
-    t_far = std::min(t_far, t1);
-    if (t_near > t_far) return h;
-  }
-  if (axis < 0 || t_near <= kMinT) return h;
-  Vec3 n{0, 0, 0};
-  (axis == 0 ? n.x : axis == 1 ? n.y : n.z) = sign;
-  h = {t_near, n};
-  return h;
-}
 
 Hit hit_local(ShapeKind kind, const std::vector<double>& dim, Vec3 o, Vec3 d) {
   switch (kind) {
