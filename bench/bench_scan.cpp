@@ -326,8 +326,10 @@ void world_set(int scenes, bool verbose, const std::string& png_dir) {
       if (verbose && (o.primitives.empty() || o.primitives[0].kind != tp.kind)) {
         std::printf("  seed %d %s truth %s [", 2000 + k, o.id.c_str(), row.c_str());
         for (double d : tp.dimensions_m) std::printf(" %.3f", d);
-        std::printf(" ] at %.2f m, %d points, partial=%d -> %s; candidates:", dist, o.point_count,
-                    o.partial ? 1 : 0, col.c_str());
+        const auto& won = scan->clusters[static_cast<size_t>(pick)].shape.primitives;
+        std::printf(" ] at %.2f m, %d points, partial=%d -> %s (cov %.2f rms %.1f); candidates:", dist,
+                    o.point_count, o.partial ? 1 : 0, col.c_str(), won.empty() ? 0.0 : won[0].coverage,
+                    won.empty() ? 0.0 : 1000 * won[0].rms_m);
         for (const ShapeFit& c : scan->clusters[static_cast<size_t>(pick)].shape.candidates)
           std::printf(" %s(cov %.2f rms %.1f)", std::string(shape_name(c.primitive.kind)).c_str(),
                       c.coverage, 1000 * c.rms_m);

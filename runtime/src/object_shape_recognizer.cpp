@@ -959,10 +959,18 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     if (disc.cylinder.valid) {
       out.candidates.push_back(disc.cylinder.fit);
       const bool on_rim = std::abs(dot(disc.cylinder.fit.primitive.axis, frame.n)) < std::cos(kPi / 4);
-      const double rival = best >= 0 && cands[best].coverage >= params.min_coverage ? cands[best].coverage : 0.0;
+      const bool rival_ok = best >= 0 && cands[best].coverage >= params.min_coverage;
+      const double rival = rival_ok ? cands[best].coverage : 0.0;
+      // Far away the tolerance (noise_factor x sigma_z) grows until both explain every
+      // point: coverage no longer tells them apart, the residuals do. The disc must then
+      // fit about as closely as the box, within the spread an RMS of n noisy points has.
+      const bool saturated = rival_ok && rival >= 1 - params.complexity_margin &&
+                             disc.cylinder.fit.coverage >= 1 - params.complexity_margin;
+      const double spread = 1 + 2 / std::sqrt(static_cast<double>(s.p.size()));
+      const bool as_close = !saturated || disc.cylinder.fit.rms_m <= spread * cands[best].rms;
       if (on_rim && disc.round_outline >= params.min_round_outline &&
           disc.cylinder.fit.coverage >= params.min_coverage &&
-          disc.cylinder.fit.coverage >= rival - params.complexity_margin)
+          disc.cylinder.fit.coverage >= rival - params.complexity_margin && as_close)
         any_axis = disc.cylinder.fit;
     }
   }

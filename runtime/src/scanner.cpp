@@ -392,29 +392,68 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
   return out;
 }
 
-// Whether a region is a surface seen from above rather than a band across a vertical
-// one (a far wall cut by the plane band). Along each image column a horizontal surface
-// runs away from the camera; a vertical one crosses the band in a few rows whose
-// distance along the plane differs only by depth noise. The median column's extent
-// along the view, laid on the plane, must clear three plane bands at its depth.
-bool seen_from_above(const Frame& f, const std::vector<int>& members, const PlaneFit& plane,
-                     const ScanParams& params) {
+// The part of a region that is a surface seen from above rather than a band across a
+// vertical one (a far wall cut by the plane band). Along each image column a horizontal
+// surface runs away from the camera; a vertical one crosses the band in a few rows whose
+// distance along the plane differs only by depth noise. A column is seen from above when
+// its extent along the view, laid on the plane, clears three plane bands at its depth.
+// A region seen from above in most of its columns is kept whole; otherwise its best run
+// of such columns: a table seen from just above its height is one region with the wall
+// beside it at the same height, whose columns are short. The kept part's hull points
+// are each grid row's outermost kept pixels; `touches_bottom` is kept as it was.
+PlaneRegions seen_from_above(const Frame& f, const PlaneRegions& region, const PlaneFit& plane,
+                             const ScanParams& params) {
   const Vec3 view = normalized(Vec3{0, 0, 1} - plane.n * plane.n.z);
   std::map<int, std::pair<double, double>> span;  // column -> min, max along the view
   std::map<int, double> depth;
-  for (int i : members) {
+  for (int i : region.members) {
     const Vec3 p = to_vec(f.points[i]);
     const double t = dot(view, p);
     auto [it, fresh] = span.try_emplace(i % f.width, t, t);
     if (!fresh) it->second = {std::min(it->second.first, t), std::max(it->second.second, t)};
     depth[i % f.width] = p.z;
   }
-  std::vector<double> ratio;
-  for (const auto& [col, mm] : span)
-    ratio.push_back((mm.second - mm.first) / (3 * plane_band(params, depth[col])));
-  if (ratio.empty()) return false;
-  std::nth_element(ratio.begin(), ratio.begin() + ratio.size() / 2, ratio.end());
-  return ratio[ratio.size() / 2] >= 1;
+  // A region seen from above in most of its columns is kept whole.
+  size_t long_columns = 0;
+  for (const auto& [col, mm] : span) long_columns += mm.second - mm.first >= 3 * plane_band(params, depth[col]);
+  if (2 * long_columns >= span.size()) return region;
+  // Else the run of such columns with most of them; short gaps in it stay (objects on
+  // the surface hide all but a short stretch of it there), and it must make up most of
+  // the region's columns between its ends: a band across clutter, long here and there,
+  // is no surface.
+  struct Run {
+    int first = 0, last = 0, count = 0;
+  };
+  std::vector<Run> runs;
+  for (const auto& [col, mm] : span) {
+    if (mm.second - mm.first < 3 * plane_band(params, depth[col])) continue;
+    // A gap wider than a quarter of the run so far ends it.
+    if (runs.empty() || col - runs.back().last > std::max(8, (runs.back().last - runs.back().first) / 4))
+      runs.push_back({col, col, 0});
+    runs.back().last = col;
+    ++runs.back().count;
+  }
+  int first_col = f.width, last_col = -1, best_count = 0;
+  for (const Run& r : runs) {
+    int inside = 0;
+    for (const auto& [col, mm] : span) inside += col >= r.first && col <= r.last;
+    if (r.count > best_count && 2 * r.count > inside)
+      best_count = r.count, first_col = r.first, last_col = r.last;
+  }
+  PlaneRegions out;
+  out.touches_bottom = region.touches_bottom;
+  std::map<int, std::pair<int, int>> row_ends;  // image row -> outermost kept pixels
+  for (int i : region.members) {
+    if (i % f.width < first_col || i % f.width > last_col) continue;
+    out.members.push_back(i);
+    auto [it, fresh] = row_ends.try_emplace(i / f.width, i, i);
+    if (!fresh) it->second = {std::min(it->second.first, i), std::max(it->second.second, i)};
+  }
+  for (const auto& [row, ends] : row_ends) {
+    out.hull_points.push_back(to_vec(f.points[ends.first]));
+    if (ends.second != ends.first) out.hull_points.push_back(to_vec(f.points[ends.second]));
+  }
+  return out;
 }
 
 double hull_area(const Hull2& h) {
@@ -866,15 +905,14 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
       found.push_back(std::move(fd));
       continue;
     }
-    for (PlaneRegions& region : regions) {
+    for (const PlaneRegions& region : regions) {
       Found fd;
       fd.plane = plane;
-      fd.points = static_cast<int>(region.members.size()) * stride * stride;
-      fd.regions = std::move(region);
+      fd.regions = seen_from_above(f, region, plane, params);
+      fd.points = static_cast<int>(fd.regions.members.size()) * stride * stride;
       if (fd.points < params.min_plane_points) continue;
       if (hull_area(convex_hull(fd.regions.hull_points, fd.plane.n)) < params.min_support_area_m2)
         continue;
-      if (!seen_from_above(f, fd.regions.members, fd.plane, params)) continue;
       found.push_back(std::move(fd));
     }
   }
@@ -1062,18 +1100,46 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
       if (2 * n > static_cast<int>(top.size())) return o;
     return -1;
   };
-  for (const std::vector<int>& grid : grow_clusters(f, mask, seeds, stride, params)) {
-    const int k = mask[grid.front()] - 1;
-    if (!result.supports[static_cast<size_t>(k)].selected) continue;
-    const PlaneFit& plane = found[static_cast<size_t>(k)].plane;
-    // The size floor falls with the square of depth, as a surface's pixel count does.
+  // The size floor falls with the square of depth, as a surface's pixel count does.
+  auto least_points = [&](const std::vector<int>& grid) {
     double z = 0;
     for (int i : grid) z += f.points[i].z;
     z /= static_cast<double>(grid.size());
-    const int min_points = std::max(params.min_cluster_points_far,
-                                    static_cast<int>(params.min_cluster_points / std::max(1.0, z * z)));
+    return std::max(params.min_cluster_points_far,
+                    static_cast<int>(params.min_cluster_points / std::max(1.0, z * z)));
+  };
+  const std::vector<std::vector<int>> grids = grow_clusters(f, mask, seeds, stride, params);
+  // Which supports hold something: a cluster big enough to be an object stands on them
+  // (selected or not: the choice of supports does not change what furniture is).
+  std::vector<char> holds(ns, 0);
+  for (const std::vector<int>& grid : grids)
+    if (static_cast<int>(grid.size()) * stride * stride >= least_points(grid) / 2)
+      holds[static_cast<size_t>(mask[grid.front()] - 1)] = 1;
+  for (const std::vector<int>& grid : grids) {
+    const int k = mask[grid.front()] - 1;
+    if (!result.supports[static_cast<size_t>(k)].selected) continue;
+    const PlaneFit& plane = found[static_cast<size_t>(k)].plane;
+    const int min_points = least_points(grid);
     if (static_cast<int>(grid.size()) * stride * stride < min_points / 2) continue;
     if (params.drop_cut_clusters && continues_above(f, grid, stride, plane, params)) continue;
+    // The body of a support above its own (a cabinet or a shelf under its top, a box
+    // whose top is the support): where the cluster reaches that support's height, its
+    // pixels are mostly that support's surface, and the surface is a visible share of
+    // it (a top seen from above). When something stands on that support, the body is
+    // furniture, not a prop: a prop is what stands on it. One with nothing on it (a
+    // storage box) stays an object.
+    bool body = false;
+    for (size_t o = 0; o < ns && !body; ++o) {
+      if (static_cast<int>(o) == k || !holds[o] || found[o].plane.d >= plane.d) continue;
+      size_t on_top = 0, at_height = 0;
+      for (int i : grid) {
+        const Vec3 p = to_vec(f.points[i]);
+        at_height += std::abs(dot(found[o].plane.n, p) + found[o].plane.d) < plane_band(params, p.z);
+        on_top += surface_of[static_cast<size_t>(i)] == static_cast<int>(o);
+      }
+      body = 2 * on_top >= at_height && 20 * on_top >= grid.size();
+    }
+    if (body) continue;
     // Under a support above its own, inside its hull, and spanning only a small share
     // of its width across the view: a table's leg, a chair's base under the table,
     // not an object. A cluster as wide as the support is the body of the object whose
