@@ -905,6 +905,17 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     }
     if (n >= 30) flatness = len2(c4, s4) / n;
   }
+  // The score is in units of the tolerance, which grows with sigma_z: a margin that is
+  // a share of it asks a far object for a residual gain many times larger in
+  // millimetres than a near one (at 2 m, 13x that at 1 m), while the shapes differ by
+  // the same millimetres. The margins hold where the tolerance is at most its value at
+  // 1 m and shrink with its square beyond.
+  double mean_tol = 0;
+  for (double t : s.tol) mean_tol += t;
+  mean_tol /= static_cast<double>(s.tol.size());
+  const double tol_1m = std::max(params.min_tolerance_m, params.noise_factor * kinect_sigma_z(1.0));
+  const double margin_scale = std::min(1.0, (tol_1m / mean_tol) * (tol_1m / mean_tol));
+  const double complexity_margin = params.complexity_margin * margin_scale;
   int best = -1;
   double best_score = -1;
   for (size_t i = 0; i < cands.size(); ++i) {
@@ -916,13 +927,13 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     if (!c.valid) continue;
     settle_inner_floor(c, s);
     evaluate(c, s);
-    settle_frustum(c, s, 2 * params.complexity_margin);
+    settle_frustum(c, s, 2 * complexity_margin);
     out.candidates.push_back(to_fit(c, frame));
     // Cones and tori have more freedom than the shapes they generalise: they must
     // explain clearly more to win.
     const double margin = (c.model == Model::cone || c.model == Model::torus ||
                            c.model == Model::lying_cylinder)
-                              ? params.complexity_margin
+                              ? complexity_margin
                               : 0.0;
     double score = c.score - margin;
     const bool round = c.model == Model::cylinder || c.model == Model::cone;
