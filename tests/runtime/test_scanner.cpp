@@ -525,9 +525,10 @@ int majority_label(const SyntheticFrame& f, const ScanCluster& c) {
 }
 
 TEST(ScannerWorld, TableObjectsFoundOnTheirSupportsAndNoLegsOrSlivers) {
-  // A second support's body (a stool) is a box standing on the floor and may be
-  // reported; legs and border slivers may not.
-  int truth_near = 0, found_near = 0, on_right_support = 0, found = 0, legs = 0, slivers = 0;
+  // Legs, border slivers and the bodies of second supports holding objects (furniture)
+  // are not props.
+  int truth_near = 0, found_near = 0, on_right_support = 0, found = 0, legs = 0, slivers = 0,
+      furniture = 0, truth_mid = 0, classed_mid = 0;
   for (std::uint64_t seed = 2001; seed <= 2012; ++seed) {
     const SyntheticFrame f = world(seed);
     const Result<ScanResult> scan = scan_frame(f.frame);
@@ -538,6 +539,7 @@ TEST(ScannerWorld, TableObjectsFoundOnTheirSupportsAndNoLegsOrSlivers) {
       const PhysicalObject& o = scan->scene.objects[k];
       if (o.partial) continue;
       legs += owner[k] == kLabelLeg;
+      furniture += owner[k] == kLabelFurniture;
       if (owner[k] >= 0 && f.truth.objects[static_cast<size_t>(owner[k])].partial) ++slivers;
       if (owner[k] < 0) continue;
       ++found;
@@ -553,23 +555,91 @@ TEST(ScannerWorld, TableObjectsFoundOnTheirSupportsAndNoLegsOrSlivers) {
     }
     for (size_t t = 0; t < f.truth.objects.size(); ++t) {
       const PhysicalPrimitive& tp = f.truth.objects[t].primitives[0];
-      if (f.truth.objects[t].partial || norm(tp.center) > 1.5) continue;
+      if (f.truth.objects[t].partial || norm(tp.center) > 2.5) continue;
       double largest = *std::max_element(tp.dimensions_m.begin(), tp.dimensions_m.end());
       if (tp.kind != ShapeKind::box) largest = std::max(largest, 2 * tp.dimensions_m[0]);
       if (largest < 0.05) continue;
+      if (norm(tp.center) >= 1.5) {
+        // 1.5 to 2.5 m: the shape class of the object most of whose pixels it shows.
+        ++truth_mid;
+        const auto it = std::find(owner.begin(), owner.end(), static_cast<int>(t));
+        if (it == owner.end()) continue;
+        const PhysicalObject& o = scan->scene.objects[static_cast<size_t>(it - owner.begin())];
+        classed_mid += !o.primitives.empty() && o.primitives[0].kind == tp.kind;
+        continue;
+      }
       ++truth_near;
       found_near += std::find(owner.begin(), owner.end(), static_cast<int>(t)) != owner.end();
     }
   }
+  ASSERT_GT(truth_mid, 8);
+  // Measured: 21 of 25 (18 before the margins in millimetres and the rim check: far
+  // boxes came out as tins on their rim, frustums as cylinders).
+  EXPECT_GE(classed_mid, truth_mid * 84 / 100) << classed_mid << " of " << truth_mid;
   ASSERT_GT(truth_near, 8);
   EXPECT_GE(found_near, truth_near * 90 / 100) << found_near << " of " << truth_near;
-  // Measured: 32 of 32 on the right support, 4 legs (one scene) and no sliver reported
+  // Measured: every object found on the right support, no leg and no sliver reported
   // whole (the generator's truth marks an object cut when its pixels reach the border).
   EXPECT_GE(on_right_support, found * 90 / 100) << on_right_support << " of " << found;
-  // The four legs left are seed 2007's: its table, 3 m away seen from 25 cm above, is a
-  // strip joined to the wall behind it and not found as a support (docs/perception.md).
-  EXPECT_LE(legs, 4);
+  EXPECT_EQ(legs, 0);
   EXPECT_EQ(slivers, 0);
+  // One cabinet body left (seed 2002): its top is not among the planes searched, so
+  // nothing tells it from a big box on the floor (4 before the furniture rule).
+  EXPECT_LE(furniture, 1);
+}
+
+TEST(ScannerWorld, FarTableSeenFromJustAboveIsFoundAndItsLegsAreNotProps) {
+  // Seed 2007: a level camera 27 cm above the table, which is 2.4 to 3.3 m away. The
+  // table's top is one plane region with the wall band beside it at its height, whose
+  // columns are short: the region's run of columns seen from above is the support.
+  // Before, the region was dropped as a wall band and the legs were four props.
+  const SyntheticFrame f = world(2007);
+  const Result<ScanResult> scan = scan_frame(f.frame);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  const SupportSurface* table = nullptr;
+  for (const SupportSurface& sp : scan->scene.supports)
+    if (std::abs(sp.plane.d - f.truth.supports[0].plane.d) < 0.03) table = &sp;
+  ASSERT_NE(table, nullptr) << "no support at the table's height";
+  int on_table = 0;
+  for (size_t k = 0; k < scan->clusters.size(); ++k) {
+    const int owner = majority_label(f, scan->clusters[k]);
+    const PhysicalObject& o = scan->scene.objects[k];
+    if (owner >= 0 && o.support_id == table->id && !o.partial) ++on_table;
+    if (owner == kLabelLeg) EXPECT_TRUE(o.partial) << o.id << " is a leg reported whole";
+    if (owner == kLabelWall) EXPECT_TRUE(o.partial) << o.id << " is the wall reported whole";
+  }
+  EXPECT_GE(on_table, 1);
+}
+
+TEST(ScannerWorld, BodyOfASupportHoldingObjectsIsFurniture) {
+  // Seeds 2001, 2012 and 2025: a cabinet beside the table whose top is found as a support
+  // with objects standing on it. Its body rises from the floor to that top: furniture,
+  // not a box prop (before: one box of 1,000 to 5,000 points each). What stands on the
+  // top is still found, on that support. A body with nothing on it stays an object
+  // (office1's storage box, ScannerReal.OfficeFindsItsStorageBoxWithTheDefaults).
+  for (std::uint64_t seed : {2001u, 2012u, 2025u}) {
+    const SyntheticFrame f = world(seed);
+    const Result<ScanResult> scan = scan_frame(f.frame);
+    ASSERT_TRUE(scan.ok()) << scan.error().format();
+    const SupportSurface* top = nullptr;
+    for (const SupportSurface& sp : f.truth.supports)
+      if (sp.id != "table" && sp.id != "floor") {
+        // 2.5 to 3 m away a plane's offset is off by a few centimetres (the floor too).
+        for (const SupportSurface& got : scan->scene.supports)
+          if (std::abs(got.plane.d - sp.plane.d) < 0.05) top = &got;
+      }
+    ASSERT_NE(top, nullptr) << "seed " << seed << ": the cabinet's top is not a support";
+    int on_top = 0;
+    for (size_t k = 0; k < scan->clusters.size(); ++k) {
+      const int owner = majority_label(f, scan->clusters[k]);
+      // Tall furniture cut by the image border may be reported partial (it never votes).
+      if (!scan->scene.objects[k].partial)
+        EXPECT_NE(owner, kLabelFurniture) << "seed " << seed << " " << scan->scene.objects[k].id
+                                          << " is furniture reported as an object";
+      on_top += owner >= 0 && scan->scene.objects[k].support_id == top->id;
+    }
+    EXPECT_GE(on_top, 1) << "seed " << seed;
+  }
 }
 
 TEST(ScannerWorld, TableSeenFromJustAboveItsTop) {
