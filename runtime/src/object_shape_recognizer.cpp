@@ -944,6 +944,17 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
       best = static_cast<int>(i);
     }
   }
+  // Far away the tolerance (noise_factor x sigma_z) grows until a shape and its rival
+  // both explain every point: coverage no longer tells them apart, the residuals do.
+  // A cylinder in any orientation must then fit about as closely as the best upright
+  // shape, within the spread an RMS of n noisy points has (far boxes were tins on edge).
+  auto as_close = [&](const ShapeFit& fit) {
+    const bool rival_ok = best >= 0 && cands[best].coverage >= params.min_coverage;
+    const bool saturated = rival_ok && cands[best].coverage >= 1 - params.complexity_margin &&
+                           fit.coverage >= 1 - params.complexity_margin;
+    const double spread = 1 + 2 / std::sqrt(static_cast<double>(s.p.size()));
+    return !saturated || fit.rms_m <= spread * cands[best].rms;
+  };
   // A cylinder lying on its side or leaning (cylinder_any_axis.h): it wins when it
   // explains clearly more than the best shape standing upright and its side normals
   // sweep round its axis rather than bunch into a box's faces.
@@ -957,7 +968,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
       const bool lying = std::abs(dot(any.fit.primitive.axis, frame.n)) < std::cos(kPi / 4);
       const double beat = best >= 0 ? best_score + params.complexity_margin : 0.0;
       if (lying && any.facetedness < params.max_round_facetedness &&
-          any.fit.coverage >= params.min_coverage && any.score > beat)
+          any.fit.coverage >= params.min_coverage && any.score > beat && as_close(any.fit))
         any_axis = any.fit;
     }
   }
@@ -970,18 +981,10 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     if (disc.cylinder.valid) {
       out.candidates.push_back(disc.cylinder.fit);
       const bool on_rim = std::abs(dot(disc.cylinder.fit.primitive.axis, frame.n)) < std::cos(kPi / 4);
-      const bool rival_ok = best >= 0 && cands[best].coverage >= params.min_coverage;
-      const double rival = rival_ok ? cands[best].coverage : 0.0;
-      // Far away the tolerance (noise_factor x sigma_z) grows until both explain every
-      // point: coverage no longer tells them apart, the residuals do. The disc must then
-      // fit about as closely as the box, within the spread an RMS of n noisy points has.
-      const bool saturated = rival_ok && rival >= 1 - params.complexity_margin &&
-                             disc.cylinder.fit.coverage >= 1 - params.complexity_margin;
-      const double spread = 1 + 2 / std::sqrt(static_cast<double>(s.p.size()));
-      const bool as_close = !saturated || disc.cylinder.fit.rms_m <= spread * cands[best].rms;
+      const double rival = best >= 0 && cands[best].coverage >= params.min_coverage ? cands[best].coverage : 0.0;
       if (on_rim && disc.round_outline >= params.min_round_outline &&
           disc.cylinder.fit.coverage >= params.min_coverage &&
-          disc.cylinder.fit.coverage >= rival - params.complexity_margin && as_close)
+          disc.cylinder.fit.coverage >= rival - params.complexity_margin && as_close(disc.cylinder.fit))
         any_axis = disc.cylinder.fit;
     }
   }
