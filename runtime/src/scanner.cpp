@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <thread>
@@ -203,11 +204,43 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
 struct Hull2 {
   Vec3 u, v;
   std::vector<std::array<double, 2>> pts;  // counter-clockwise
+  // Quick answers (set by finish()): outside the bounding box is outside, inside the
+  // disc around the vertices' mean that the edges leave free is inside. Both keep
+  // kQuickMargin_m from the boundary, far beyond the rounding of the exact test below,
+  // so they answer as it does.
+  static constexpr double kQuickMargin_m = 1e-7;
+  double lo_a = 0, hi_a = -1, lo_b = 0, hi_b = -1, mid_a = 0, mid_b = 0, inner2 = -1;
+  void finish() {
+    if (pts.size() < 3) return;
+    lo_a = hi_a = pts[0][0], lo_b = hi_b = pts[0][1];
+    mid_a = mid_b = 0;
+    for (const auto& q : pts) {
+      lo_a = std::min(lo_a, q[0]), hi_a = std::max(hi_a, q[0]);
+      lo_b = std::min(lo_b, q[1]), hi_b = std::max(hi_b, q[1]);
+      mid_a += q[0], mid_b += q[1];
+    }
+    mid_a /= static_cast<double>(pts.size());
+    mid_b /= static_cast<double>(pts.size());
+    double r = std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < pts.size(); ++k) {
+      const auto& o = pts[k];
+      const auto& q = pts[(k + 1) % pts.size()];
+      const double len = std::hypot(q[0] - o[0], q[1] - o[1]);
+      if (len <= 0) continue;
+      r = std::min(r, ((q[0] - o[0]) * (mid_b - o[1]) - (q[1] - o[1]) * (mid_a - o[0])) / len);
+    }
+    r -= kQuickMargin_m;
+    inner2 = r > 0 && std::isfinite(r) ? r * r : -1;
+  }
   // Binary search of the wedge around pts[0]: O(log n) per point.
   bool contains(Vec3 p) const {
     const size_t n = pts.size();
     if (n < 3) return false;
     const double a = dot(u, p), b = dot(v, p);
+    if (a < lo_a - kQuickMargin_m || a > hi_a + kQuickMargin_m || b < lo_b - kQuickMargin_m ||
+        b > hi_b + kQuickMargin_m)
+      return false;
+    if ((a - mid_a) * (a - mid_a) + (b - mid_b) * (b - mid_b) < inner2) return true;
     auto cross2 = [&](const std::array<double, 2>& o, const std::array<double, 2>& q) {
       return (q[0] - o[0]) * (b - o[1]) - (q[1] - o[1]) * (a - o[0]);
     };
@@ -251,6 +284,7 @@ Hull2 convex_hull(const std::vector<Vec3>& in, Vec3 n) {
   }
   out.resize(k - 1);
   h.pts = std::move(out);
+  h.finish();
   return h;
 }
 
