@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
@@ -196,13 +197,29 @@ std::optional<PhysicalObject> free_region(const Frame& frame, const ScanSupport&
   const double cell = std::max(params.cell_m, std::max(len_e, len_w) / 1000);
   const int cols = std::max(1, static_cast<int>(std::ceil(len_e / cell)));
   const int rows = std::max(1, static_cast<int>(std::ceil(len_w / cell)));
-  // The points on the surface (seen) and above it (blocked) by cell of the full grid.
-  struct Hit {
-    int row, col;
-    bool seen;
-  };
-  std::vector<Hit> hits;
+  // The points on the surface (seen) and above it (blocked) by cell of the full grid,
+  // packed as row << 11 | column << 1 | seen (at most 1000 cells a side).
+  std::vector<std::uint32_t> hits;
+  hits.reserve(frame.points.size() / 2);
   int lo_r = rows, hi_r = -1, lo_c = cols, hi_c = -1;  // the seen cells' bounding box
+  // floor(x / cell) when it lies in [0, n): a product with 1 / cell lies within a few
+  // ulps of the quotient, so it gives the cell unless it is within 1e-6 of a cell's
+  // edge, where the quotient itself decides.
+  const double inv_cell = 1 / cell;
+  auto cell_of = [&](double x, int n, int& out) {
+    const double a = x * inv_cell;
+    if (!(a > -1e-6 && a < n + 1e-6)) return false;
+    const int k = static_cast<int>(a);
+    const double frac = a - k;
+    if (frac < 1e-6 || frac > 1 - 1e-6) {
+      const double q = x / cell;
+      if (!(q >= 0 && q < n)) return false;
+      out = static_cast<int>(q);
+      return true;
+    }
+    out = k;
+    return true;
+  };
   for (const PointXYZRGB& p : frame.points) {
     if (!std::isfinite(p.z) || p.z <= 0 || p.z > scan_params.max_depth_m) continue;
     const Vec3 q{p.x, p.y, p.z};
@@ -212,15 +229,15 @@ std::optional<PhysicalObject> free_region(const Frame& frame, const ScanSupport&
         std::max(scan_params.plane_distance_m, scan_params.plane_noise_factor * kinect_sigma_z(p.z));
     if (h < -band) continue;
     const Vec3 r = q - origin;
-    // floor(x) in [0, n) exactly when x is: the cell is the truncation.
-    const double fc = dot(r, e) / cell, fr = dot(r, w) / cell;
-    if (!(fc >= 0 && fc < cols && fr >= 0 && fr < rows)) continue;
-    const Hit hit{static_cast<int>(fr), static_cast<int>(fc), h <= band};
-    if (hit.seen) {
-      lo_r = std::min(lo_r, hit.row), hi_r = std::max(hi_r, hit.row);
-      lo_c = std::min(lo_c, hit.col), hi_c = std::max(hi_c, hit.col);
+    int col = 0, row = 0;
+    if (!cell_of(dot(r, e), cols, col) || !cell_of(dot(r, w), rows, row)) continue;
+    const bool seen = h <= band;
+    if (seen) {
+      lo_r = std::min(lo_r, row), hi_r = std::max(hi_r, row);
+      lo_c = std::min(lo_c, col), hi_c = std::max(hi_c, col);
     }
-    hits.push_back(hit);
+    hits.push_back(static_cast<std::uint32_t>(row) << 11 | static_cast<std::uint32_t>(col) << 1 |
+                   (seen ? 1u : 0u));
   }
   if (hi_r < 0) return std::nullopt;  // no surface cell: no free cell
   // Free cells are seen cells after a closing by one cell, so they lie within the seen
@@ -236,10 +253,11 @@ std::optional<PhysicalObject> free_region(const Frame& frame, const ScanSupport&
   const int crows = r_end - r_begin, ccols = c_end - c_begin;
   std::vector<char> seen(static_cast<size_t>(crows) * ccols, 0), blocked(seen.size(), 0);
   std::vector<int> count(seen.size(), 0);
-  for (const Hit& hit : hits) {
-    if (hit.row < r_begin || hit.row >= r_end || hit.col < c_begin || hit.col >= c_end) continue;
-    const size_t at = static_cast<size_t>(hit.row - r_begin) * ccols + (hit.col - c_begin);
-    if (hit.seen) {
+  for (const std::uint32_t hit : hits) {
+    const int row = static_cast<int>(hit >> 11), col = static_cast<int>(hit >> 1 & 1023);
+    if (row < r_begin || row >= r_end || col < c_begin || col >= c_end) continue;
+    const size_t at = static_cast<size_t>(row - r_begin) * ccols + (col - c_begin);
+    if (hit & 1) {
       seen[at] = 1;
       ++count[at];
     } else {
