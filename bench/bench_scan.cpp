@@ -7,14 +7,19 @@
 //             the same clusters: class accuracy, size error, time per cluster.
 //   world     the widened generator: class, size, support and cone direction per
 //             distance band, a confusion matrix per shape, false props and slivers.
-// Usage: annex-bench-scan [--repeat N] [--scenes N] [--world N] [--skip-pcl] [--world-only]
-//        [--verbose] [--png-dir DIR]  (--verbose: every world-set miss, misclassification,
-//        leg and sliver; --png-dir: the world scenes' scan pictures and frames)
+// Usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N]
+//        [--skip-pcl] [--world-only] [--speed-only] [--verbose] [--png-dir DIR]
+//        (--repeat: our scans per frame, 30; --pcl-repeat: PCL's, interleaved with ours,
+//        default max(5, repeat / 3); --threads: our worker threads, 2; --speed-only: the
+//        speed section alone, e.g. under callgrind; --verbose: every world-set miss,
+//        misclassification, leg and sliver; --png-dir: the world scenes' pictures, frames)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <optional>
 #include <string>
@@ -50,18 +55,39 @@ double percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
 }
 
-template <typename Run>
-void time_pipeline(const char* name, const Frame& frame, int repeat, Run run) {
+double cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
+}
+
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string one, five, fifteen;
+  in >> one >> five >> fifteen;
+  return in ? one + " " + five + " " + fifteen : std::string("unknown");
+}
+
+// One pipeline's runs: per-stage wall times, wall and CPU (all threads) per run.
+struct Timings {
+  const char* name = "";
   std::map<std::string, std::vector<double>> stages;
   std::vector<std::string> order;
-  std::vector<double> totals;
+  std::vector<double> wall, cpu;
   int objects = 0;
-  for (int i = 0; i < repeat; ++i) {
+  bool failed = false;
+
+  template <typename Run>
+  void run(const Frame& frame, Run pipeline) {
+    if (failed) return;
+    const double c0 = cpu_ms();
     const auto t0 = Clock::now();
-    const Result<ScanResult> r = run(frame);
-    totals.push_back(ms_since(t0));
+    const Result<ScanResult> r = pipeline(frame);
+    wall.push_back(ms_since(t0));
+    cpu.push_back(cpu_ms() - c0);
     if (!r) {
       std::printf("  %s: %s\n", name, r.error().format().c_str());
+      failed = true;
       return;
     }
     objects = static_cast<int>(r->scene.objects.size());
@@ -70,18 +96,47 @@ void time_pipeline(const char* name, const Frame& frame, int repeat, Run run) {
       stages[s.name].push_back(s.ms);
     }
   }
-  std::printf("  %-10s objects=%d", name, objects);
-  for (const std::string& s : order) std::printf("  %s=%.1f", s.c_str(), median(stages[s]));
-  std::printf("  total median_ms=%.1f (min %.1f, %d runs)\n", median(totals),
-              *std::min_element(totals.begin(), totals.end()), repeat);
-}
+  void print() const {
+    if (wall.empty()) return;
+    std::printf("  %-10s objects=%d", name, objects);
+    for (const std::string& s : order) std::printf("  %s=%.1f", s.c_str(), median(stages.at(s)));
+    std::printf("\n  %-10s wall median_ms=%.1f min_ms=%.1f  cpu median_ms=%.1f min_ms=%.1f  (%zu runs)\n",
+                "", median(wall), *std::min_element(wall.begin(), wall.end()), median(cpu),
+                *std::min_element(cpu.begin(), cpu.end()), wall.size());
+  }
+};
 
-void speed(const Frame& frame, const char* label, int repeat, bool pcl) {
-  std::printf("speed on %s (%dx%d):\n", label, frame.width, frame.height);
-  time_pipeline("annex", frame, repeat, [](const Frame& f) { return scan_frame(f); });
-  if (pcl)
-    time_pipeline("pcl-paper", frame, std::max(3, repeat / 10),
-                  [](const Frame& f) { return scan_frame_pcl_reference(f); });
+// Both pipelines in one run, interleaved: each PCL run follows an equal share of ours,
+// so a change of load hits both alike. Medians and minimums of each, and their ratios.
+void speed(const Frame& frame, const char* label, int repeat, int pcl_repeat, int threads) {
+  std::printf("speed on %s (%dx%d), load average %s:\n", label, frame.width, frame.height,
+              load_average().c_str());
+  ScanParams params;
+  params.threads = threads;
+  Timings ours, theirs;
+  ours.name = "annex";
+  theirs.name = "pcl-paper";
+  auto annex = [&](const Frame& f) { return scan_frame(f, params); };
+  auto pcl = [](const Frame& f) { return scan_frame_pcl_reference(f); };
+  ours.run(frame, annex);  // warm-up: first-touch allocations, caches
+  ours = Timings{};
+  ours.name = "annex";
+  const int rounds = std::max(1, pcl_repeat);
+  for (int r = 0; r < rounds; ++r) {
+    const int share = repeat * (r + 1) / rounds - repeat * r / rounds;
+    for (int i = 0; i < share; ++i) ours.run(frame, annex);
+    if (pcl_repeat > 0) theirs.run(frame, pcl);
+  }
+  ours.print();
+  theirs.print();
+  if (!ours.wall.empty() && !theirs.wall.empty() && !ours.failed && !theirs.failed) {
+    auto lo = [](const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); };
+    std::printf("  pcl / annex: wall medians %.1fx, wall mins %.1fx, cpu medians %.1fx, cpu mins "
+                "%.1fx (threads=%d; load average at the end %s)\n",
+                median(theirs.wall) / median(ours.wall), lo(theirs.wall) / lo(ours.wall),
+                median(theirs.cpu) / median(ours.cpu), lo(theirs.cpu) / lo(ours.cpu), threads,
+                load_average().c_str());
+  }
 }
 
 struct TruthMatch {
@@ -411,20 +466,23 @@ void real_clusters(const Frame& frame) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int repeat = 30, scenes = 100, world = 60;
-  bool pcl = true, world_only = false, verbose = false;
+  int repeat = 30, scenes = 100, world = 60, pcl_repeat = -1, threads = ScanParams{}.threads;
+  bool pcl = true, world_only = false, speed_only = false, verbose = false;
   std::string png_dir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--repeat" && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
     else if (a == "--scenes" && i + 1 < argc) scenes = std::max(1, std::atoi(argv[++i]));
     else if (a == "--world" && i + 1 < argc) world = std::max(0, std::atoi(argv[++i]));
+    else if (a == "--pcl-repeat" && i + 1 < argc) pcl_repeat = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--threads" && i + 1 < argc) threads = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--speed-only") speed_only = true;
     else if (a == "--skip-pcl") pcl = false;
     else if (a == "--world-only") world_only = true;
     else if (a == "--verbose") verbose = true;
     else if (a == "--png-dir" && i + 1 < argc) png_dir = argv[++i];
     else {
-      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--scenes N] [--world N] [--skip-pcl] [--world-only] [--verbose] [--png-dir DIR]\n");
+      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N] [--skip-pcl] [--world-only] [--speed-only] [--verbose] [--png-dir DIR]\n");
       return 2;
     }
   }
@@ -439,9 +497,13 @@ int main(int argc, char** argv) {
     Result<Frame> f = read_pcd(real);
     if (f) real_frame = std::move(*f);
   }
-  if (real_frame) speed(*real_frame, "milk_cartoon_all_small_clorox.pcd", repeat, pcl);
+  if (pcl_repeat < 0) pcl_repeat = std::max(5, repeat / 3);
+  if (!pcl) pcl_repeat = 0;
+  if (real_frame)
+    speed(*real_frame, "milk_cartoon_all_small_clorox.pcd", repeat, pcl_repeat, threads);
   else std::printf("speed: ../shared/data/real absent, real frame skipped\n");
-  speed(synthetic(7).frame, "generated scene seed 7", repeat, pcl);
+  if (speed_only) return 0;
+  speed(synthetic(7).frame, "generated scene seed 7", repeat, pcl_repeat, threads);
   if (world > 0) world_set(world, verbose, png_dir);
   accuracy_and_ransac(scenes, std::min(scenes, 30));
   if (real_frame) real_clusters(*real_frame);

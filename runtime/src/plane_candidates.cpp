@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
@@ -122,25 +123,32 @@ std::array<int, 4> largest_rectangle(const std::vector<char>& cells, int rows, i
   return best;
 }
 
-// Chebyshev dilation of a grid by `radius` cells (separable running maximum).
+// Chebyshev dilation of a grid by `radius` cells (separable running maximum; the
+// column pass walks the rows in memory order, one running "last set row" per column).
 std::vector<char> dilate(const std::vector<char>& in, int rows, int cols, int radius) {
   if (radius <= 0) return in;
   std::vector<char> tmp(in.size(), 0), out(in.size(), 0);
   for (int r = 0; r < rows; ++r) {
+    const char* row = in.data() + static_cast<size_t>(r) * cols;
+    char* dst = tmp.data() + static_cast<size_t>(r) * cols;
     int last = -radius - 1;  // column of the last set cell seen
     for (int c = 0; c < cols + radius; ++c) {
-      if (c < cols && in[static_cast<size_t>(r) * cols + c]) last = c;
+      if (c < cols && row[c]) last = c;
       const int at = c - radius;
-      if (at >= 0 && at < cols && c - last <= 2 * radius) tmp[static_cast<size_t>(r) * cols + at] = 1;
+      if (at >= 0 && c - last <= 2 * radius) dst[at] = 1;
     }
   }
-  for (int c = 0; c < cols; ++c) {
-    int last = -radius - 1;
-    for (int r = 0; r < rows + radius; ++r) {
-      if (r < rows && tmp[static_cast<size_t>(r) * cols + c]) last = r;
-      const int at = r - radius;
-      if (at >= 0 && at < rows && r - last <= 2 * radius) out[static_cast<size_t>(at) * cols + c] = 1;
+  std::vector<int> last(static_cast<size_t>(cols), -radius - 1);  // per column
+  for (int r = 0; r < rows + radius; ++r) {
+    if (r < rows) {
+      const char* row = tmp.data() + static_cast<size_t>(r) * cols;
+      for (int c = 0; c < cols; ++c)
+        if (row[c]) last[static_cast<size_t>(c)] = r;
     }
+    const int at = r - radius;
+    if (at < 0) continue;
+    char* dst = out.data() + static_cast<size_t>(at) * cols;
+    for (int c = 0; c < cols; ++c) dst[c] = r - last[static_cast<size_t>(c)] <= 2 * radius;
   }
   return out;
 }
@@ -189,21 +197,67 @@ std::optional<PhysicalObject> free_region(const Frame& frame, const ScanSupport&
   const double cell = std::max(params.cell_m, std::max(len_e, len_w) / 1000);
   const int cols = std::max(1, static_cast<int>(std::ceil(len_e / cell)));
   const int rows = std::max(1, static_cast<int>(std::ceil(len_w / cell)));
-  std::vector<char> seen(static_cast<size_t>(rows) * cols, 0), blocked(seen.size(), 0);
-  std::vector<int> count(seen.size(), 0);
+  // The points on the surface (seen) and above it (blocked) by cell of the full grid,
+  // packed as row << 11 | column << 1 | seen (at most 1000 cells a side).
+  std::vector<std::uint32_t> hits;
+  hits.reserve(frame.points.size() / 2);
+  int lo_r = rows, hi_r = -1, lo_c = cols, hi_c = -1;  // the seen cells' bounding box
+  // floor(x / cell) when it lies in [0, n): a product with 1 / cell lies within a few
+  // ulps of the quotient, so it gives the cell unless it is within 1e-6 of a cell's
+  // edge, where the quotient itself decides.
+  const double inv_cell = 1 / cell;
+  auto cell_of = [&](double x, int n, int& out) {
+    const double a = x * inv_cell;
+    if (!(a > -1e-6 && a < n + 1e-6)) return false;
+    const int k = static_cast<int>(a);
+    const double frac = a - k;
+    if (frac < 1e-6 || frac > 1 - 1e-6) {
+      const double q = x / cell;
+      if (!(q >= 0 && q < n)) return false;
+      out = static_cast<int>(q);
+      return true;
+    }
+    out = k;
+    return true;
+  };
   for (const PointXYZRGB& p : frame.points) {
     if (!std::isfinite(p.z) || p.z <= 0 || p.z > scan_params.max_depth_m) continue;
     const Vec3 q{p.x, p.y, p.z};
     const double h = dot(n, q) + d;
+    if (h > scan_params.max_height_m) continue;
     const double band =
         std::max(scan_params.plane_distance_m, scan_params.plane_noise_factor * kinect_sigma_z(p.z));
-    if (h < -band || h > scan_params.max_height_m) continue;
+    if (h < -band) continue;
     const Vec3 r = q - origin;
-    const int c = static_cast<int>(std::floor(dot(r, e) / cell));
-    const int rr = static_cast<int>(std::floor(dot(r, w) / cell));
-    if (c < 0 || rr < 0 || c >= cols || rr >= rows) continue;
-    const size_t at = static_cast<size_t>(rr) * cols + c;
-    if (h <= band) {
+    int col = 0, row = 0;
+    if (!cell_of(dot(r, e), cols, col) || !cell_of(dot(r, w), rows, row)) continue;
+    const bool seen = h <= band;
+    if (seen) {
+      lo_r = std::min(lo_r, row), hi_r = std::max(hi_r, row);
+      lo_c = std::min(lo_c, col), hi_c = std::max(hi_c, col);
+    }
+    hits.push_back(static_cast<std::uint32_t>(row) << 11 | static_cast<std::uint32_t>(col) << 1 |
+                   (seen ? 1u : 0u));
+  }
+  if (hi_r < 0) return std::nullopt;  // no surface cell: no free cell
+  // Free cells are seen cells after a closing by one cell, so they lie within the seen
+  // cells' box grown by two; an object keeps cells within `clear` free. The grid is
+  // cut to that box grown by 2 + clear cells (within the full grid): every cell that
+  // can be free sees the same neighbourhood as on the full grid, and the cells beyond
+  // the box's 2-cell margin are unseen either way. The largest rectangle's scan meets
+  // the same rectangles in the same order (the cut rows and columns hold no free cell).
+  const int clear = static_cast<int>(std::ceil(params.clearance_m / cell));
+  const int margin = 2 + clear;
+  const int r_begin = std::max(0, lo_r - margin), r_end = std::min(rows, hi_r + margin + 1);
+  const int c_begin = std::max(0, lo_c - margin), c_end = std::min(cols, hi_c + margin + 1);
+  const int crows = r_end - r_begin, ccols = c_end - c_begin;
+  std::vector<char> seen(static_cast<size_t>(crows) * ccols, 0), blocked(seen.size(), 0);
+  std::vector<int> count(seen.size(), 0);
+  for (const std::uint32_t hit : hits) {
+    const int row = static_cast<int>(hit >> 11), col = static_cast<int>(hit >> 1 & 1023);
+    if (row < r_begin || row >= r_end || col < c_begin || col >= c_end) continue;
+    const size_t at = static_cast<size_t>(row - r_begin) * ccols + (col - c_begin);
+    if (hit & 1) {
       seen[at] = 1;
       ++count[at];
     } else {
@@ -212,12 +266,13 @@ std::optional<PhysicalObject> free_region(const Frame& frame, const ScanSupport&
   }
   // Close pinholes between the pixels of a surface seen at a slant, then keep clear of
   // whatever stands on it.
-  seen = invert(dilate(invert(dilate(seen, rows, cols, 1)), rows, cols, 1));
-  const int clear = static_cast<int>(std::ceil(params.clearance_m / cell));
-  const std::vector<char> near_object = dilate(blocked, rows, cols, clear);
+  seen = invert(dilate(invert(dilate(seen, crows, ccols, 1)), crows, ccols, 1));
+  const std::vector<char> near_object = dilate(blocked, crows, ccols, clear);
   std::vector<char> free_cells(seen.size(), 0);
   for (size_t i = 0; i < seen.size(); ++i) free_cells[i] = seen[i] && !near_object[i];
-  const auto [r0, c0, nr, nc] = largest_rectangle(free_cells, rows, cols);
+  auto [r0, c0, nr, nc] = largest_rectangle(free_cells, crows, ccols);
+  r0 += r_begin;
+  c0 += c_begin;
   const double size_e = nc * cell, size_w = nr * cell;
   if (nr == 0 || std::min(size_e, size_w) < params.min_side_m) return std::nullopt;
   const Vec3 center = origin + e * ((c0 + nc / 2.0) * cell) + w * ((r0 + nr / 2.0) * cell);
@@ -225,7 +280,8 @@ std::optional<PhysicalObject> free_region(const Frame& frame, const ScanSupport&
       plane_object(sp.surface.id + ".free", center, n, e, size_e, w, size_w);
   int points = 0;
   for (int r = r0; r < r0 + nr; ++r)
-    for (int c = c0; c < c0 + nc; ++c) points += count[static_cast<size_t>(r) * cols + c];
+    for (int c = c0; c < c0 + nc; ++c)
+      points += count[static_cast<size_t>(r - r_begin) * ccols + (c - c_begin)];
   o.point_count = points;
   o.fit = 1.0;
   o.support_id = sp.surface.id;

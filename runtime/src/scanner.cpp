@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <thread>
@@ -203,11 +204,43 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
 struct Hull2 {
   Vec3 u, v;
   std::vector<std::array<double, 2>> pts;  // counter-clockwise
+  // Quick answers (set by finish()): outside the bounding box is outside, inside the
+  // disc around the vertices' mean that the edges leave free is inside. Both keep
+  // kQuickMargin_m from the boundary, far beyond the rounding of the exact test below,
+  // so they answer as it does.
+  static constexpr double kQuickMargin_m = 1e-7;
+  double lo_a = 0, hi_a = -1, lo_b = 0, hi_b = -1, mid_a = 0, mid_b = 0, inner2 = -1;
+  void finish() {
+    if (pts.size() < 3) return;
+    lo_a = hi_a = pts[0][0], lo_b = hi_b = pts[0][1];
+    mid_a = mid_b = 0;
+    for (const auto& q : pts) {
+      lo_a = std::min(lo_a, q[0]), hi_a = std::max(hi_a, q[0]);
+      lo_b = std::min(lo_b, q[1]), hi_b = std::max(hi_b, q[1]);
+      mid_a += q[0], mid_b += q[1];
+    }
+    mid_a /= static_cast<double>(pts.size());
+    mid_b /= static_cast<double>(pts.size());
+    double r = std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < pts.size(); ++k) {
+      const auto& o = pts[k];
+      const auto& q = pts[(k + 1) % pts.size()];
+      const double len = std::hypot(q[0] - o[0], q[1] - o[1]);
+      if (len <= 0) continue;
+      r = std::min(r, ((q[0] - o[0]) * (mid_b - o[1]) - (q[1] - o[1]) * (mid_a - o[0])) / len);
+    }
+    r -= kQuickMargin_m;
+    inner2 = r > 0 && std::isfinite(r) ? r * r : -1;
+  }
   // Binary search of the wedge around pts[0]: O(log n) per point.
   bool contains(Vec3 p) const {
     const size_t n = pts.size();
     if (n < 3) return false;
     const double a = dot(u, p), b = dot(v, p);
+    if (a < lo_a - kQuickMargin_m || a > hi_a + kQuickMargin_m || b < lo_b - kQuickMargin_m ||
+        b > hi_b + kQuickMargin_m)
+      return false;
+    if ((a - mid_a) * (a - mid_a) + (b - mid_b) * (b - mid_b) < inner2) return true;
     auto cross2 = [&](const std::array<double, 2>& o, const std::array<double, 2>& q) {
       return (q[0] - o[0]) * (b - o[1]) - (q[1] - o[1]) * (a - o[0]);
     };
@@ -251,6 +284,7 @@ Hull2 convex_hull(const std::vector<Vec3>& in, Vec3 n) {
   }
   out.resize(k - 1);
   h.pts = std::move(out);
+  h.finish();
   return h;
 }
 
@@ -313,37 +347,44 @@ struct PlaneRegions {
   bool touches_bottom = false;    // a kept region reaches the image's bottom rows
 };
 
-// `inliers`: the strided pixels still free within the plane's depth-scaled band.
+// A strided pixel's cell on the strided grid (column, row), kept beside the pixel so
+// the passes over the pool divide nothing.
+struct GridCell {
+  int x = 0, y = 0;
+};
+
+// `inliers`: the strided pixels still free within the plane's depth-scaled band, and
+// `cells` their grid cells.
 std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& inliers,
-                                        int stride, int min_region, bool split) {
+                                        const std::vector<GridCell>& cells, int stride,
+                                        int min_region, bool split) {
   const int gw = (f.width + stride - 1) / stride, gh = (f.height + stride - 1) / stride;
   std::vector<int> label(static_cast<size_t>(gw) * gh, -2);  // -2 not inlier, -1 unvisited
-  for (int i : inliers) {
-    const int x = (i % f.width) / stride, y = (i / f.width) / stride;
-    label[static_cast<size_t>(y) * gw + x] = -1;
-  }
+  for (const GridCell& c : cells) label[static_cast<size_t>(c.y) * gw + c.x] = -1;
   std::vector<int> sizes;
-  std::vector<int> queue;
+  std::vector<GridCell> queue;
   // Inliers come in raster order, so regions are numbered as a scan of the grid would.
-  for (int i : inliers) {
-    const size_t start = static_cast<size_t>((i / f.width) / stride) * gw + (i % f.width) / stride;
+  for (const GridCell& c : cells) {
+    const size_t start = static_cast<size_t>(c.y) * gw + c.x;
     if (label[start] != -1) continue;
     const int next = static_cast<int>(sizes.size());
-    queue.assign(1, static_cast<int>(start));
+    queue.assign(1, c);
     label[start] = next;
     for (size_t q = 0; q < queue.size(); ++q) {
-      const int g = queue[q], x = g % gw, y = g / gw;
+      const int x = queue[q].x, y = queue[q].y;
       // Neighbours one or two grid steps away along the rows and columns: a surface
       // seen at a grazing angle loses pixels to dropout (a far table seen from just
       // above its height), and a single missing cell must not cut it apart.
-      const int nb[8] = {x > 0 ? g - 1 : -1, x + 1 < gw ? g + 1 : -1, y > 0 ? g - gw : -1,
-                         y + 1 < gh ? g + gw : -1, x > 1 ? g - 2 : -1, x + 2 < gw ? g + 2 : -1,
-                         y > 1 ? g - 2 * gw : -1, y + 2 < gh ? g + 2 * gw : -1};
-      for (int m : nb)
-        if (m >= 0 && label[m] == -1) {
-          label[m] = next;
+      const GridCell nb[8] = {{x - 1, y}, {x + 1, y}, {x, y - 1}, {x, y + 1},
+                              {x - 2, y}, {x + 2, y}, {x, y - 2}, {x, y + 2}};
+      for (const GridCell& m : nb) {
+        if (m.x < 0 || m.x >= gw || m.y < 0 || m.y >= gh) continue;
+        int& l = label[static_cast<size_t>(m.y) * gw + m.x];
+        if (l == -1) {
+          l = next;
           queue.push_back(m);
         }
+      }
     }
     sizes.push_back(static_cast<int>(queue.size()));
   }
@@ -374,8 +415,8 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
     }
   };
   int row = -1;
-  for (int i : inliers) {
-    const int x = (i % f.width) / stride, y = (i / f.width) / stride;
+  for (size_t k = 0; k < inliers.size(); ++k) {
+    const int i = inliers[k], x = cells[k].x, y = cells[k].y;
     if (y != row) {
       if (row >= 0) close_row(row);
       row = y;
@@ -383,7 +424,7 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
     const int l = label[static_cast<size_t>(y) * gw + x];
     if (slot[l] < 0) continue;
     const int o = slot[l];
-    out[o].members.push_back(y * stride * f.width + x * stride);
+    out[o].members.push_back(i);  // a strided pixel: y * stride * width + x * stride
     if (first[o] < 0) first[o] = x;
     last[o] = x;
     if (y >= gh - 2) out[o].touches_bottom = true;
@@ -587,24 +628,27 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
     const double pixel_m = p.z / CameraIntrinsics{}.fx;  // Kinect pixel spacing at depth
     const double r = std::max({params.mls_radius_m, 3 * kinect_sigma_z(p.z), 1.5 * w * pixel_m});
     const double r2 = r * r;
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d sq = Eigen::Matrix3d::Zero();
+    // The sums of the coordinates and of their six distinct products (the second
+    // moments are symmetric).
+    double sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
     int n = 0;
     const int hop = w > 3 ? 2 : 1;  // a sparser window keeps the cost flat
     for (int dy = -w; dy <= w; dy += hop) {
       const int yy = y + dy;
       if (yy < 0 || yy >= f.height) continue;
+      const int row = yy * f.width;
       for (int dx = -w; dx <= w; dx += hop) {
         const int xx = x + dx;
         if (xx < 0 || xx >= f.width) continue;
-        const int j = yy * f.width + xx;
+        const int j = row + xx;
         if (label[j] != id) continue;
-        const Vec3 q = to_vec(f.points[j]);
-        const Vec3 e = q - p;
-        if (dot(e, e) > r2) continue;
-        const Eigen::Vector3d v(q.x, q.y, q.z);
-        sum += v;
-        sq += v * v.transpose();
+        const PointXYZRGB& pj = f.points[j];
+        const double qx = pj.x, qy = pj.y, qz = pj.z;
+        const double ex = qx - p.x, ey = qy - p.y, ez = qz - p.z;
+        if (ex * ex + ey * ey + ez * ez > r2) continue;
+        sx += qx, sy += qy, sz += qz;
+        sxx += qx * qx, sxy += qx * qy, sxz += qx * qz;
+        syy += qy * qy, syz += qy * qz, szz += qz * qz;
         ++n;
       }
     }
@@ -613,7 +657,9 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
       normals.push_back({0, 0, 0});
       continue;
     }
-    const Eigen::Vector3d mean = sum / n;
+    const Eigen::Vector3d mean = Eigen::Vector3d(sx, sy, sz) / n;
+    Eigen::Matrix3d sq;
+    sq << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
     const Eigen::Matrix3d cov = sq / n - mean * mean.transpose();
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
     es.computeDirect(cov);
@@ -795,10 +841,19 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   auto t0 = Clock::now();
   const int stride = std::max(1, params.pixel_stride);
   std::vector<int> strided;
-  for (int y = 0; y < f.height; y += stride)
-    for (int x = 0; x < f.width; x += stride) {
+  std::vector<GridCell> strided_cells;  // each strided pixel's grid cell
+  // Valid strided pixels per grid row and column (the image border below).
+  const int gw = (f.width + stride - 1) / stride, gh = (f.height + stride - 1) / stride;
+  std::vector<int> valid_rows(static_cast<size_t>(gh), 0), valid_cols(static_cast<size_t>(gw), 0);
+  for (int y = 0, gy = 0; y < f.height; y += stride, ++gy)
+    for (int x = 0, gx = 0; x < f.width; x += stride, ++gx) {
       const int i = y * f.width + x;
-      if (valid(f.points[i]) && f.points[i].z <= params.max_depth_m) strided.push_back(i);
+      if (valid(f.points[i]) && f.points[i].z <= params.max_depth_m) {
+        strided.push_back(i);
+        strided_cells.push_back({gx, gy});
+        ++valid_rows[static_cast<size_t>(gy)];
+        ++valid_cols[static_cast<size_t>(gx)];
+      }
     }
   if (strided.size() < 50) {
     // Valid points that all lie beyond the range are most often a cloud in millimetres.
@@ -826,6 +881,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   std::vector<char> free(f.points.size(), 0);
   for (int i : strided) free[i] = 1;
   std::vector<int> pool = strided;
+  std::vector<GridCell> pool_cells = strided_cells;
   std::vector<Vec3> pool_pts;
   pool_pts.reserve(pool.size());
   for (int i : pool) pool_pts.push_back(to_vec(f.points[i]));
@@ -833,6 +889,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   const double cos_tilt = std::cos(params.max_support_tilt_deg * 3.14159265358979 / 180.0);
   std::vector<std::pair<PlaneFit, std::vector<PlaneRegions>>> planes;
   std::vector<int> inliers;
+  std::vector<GridCell> inlier_cells;
   for (int attempt = 0; attempt < params.max_planes && pool.size() >= 50; ++attempt) {
     // A plane holds at most the whole pool: when that is below min_plane_points no
     // search can give one (the search would end the loop the same way).
@@ -845,18 +902,23 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     if (!ps.plane.ok || ps.inliers * stride * stride < params.min_plane_points) break;
     // One pass finds the inliers for the regions and for leaving the pool.
     inliers.clear();
+    inlier_cells.clear();
     for (size_t k = 0; k < pool.size(); ++k) {
       const Vec3& p = pool_pts[k];
-      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < plane_band(params, p.z))
+      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < plane_band(params, p.z)) {
         inliers.push_back(pool[k]);
+        inlier_cells.push_back(pool_cells[k]);
+      }
     }
-    std::vector<PlaneRegions> regions = plane_regions(f, inliers, stride, min_region, true);
+    std::vector<PlaneRegions> regions =
+        plane_regions(f, inliers, inlier_cells, stride, min_region, true);
     // Its inliers leave the search whether it counts or not (an object's top).
     for (int i : inliers) free[i] = 0;
     size_t kept = 0;
     for (size_t k = 0; k < pool.size(); ++k)
-      if (free[pool[k]]) pool[kept] = pool[k], pool_pts[kept++] = pool_pts[k];
+      if (free[pool[k]]) pool[kept] = pool[k], pool_cells[kept] = pool_cells[k], pool_pts[kept++] = pool_pts[k];
     pool.resize(kept);
+    pool_cells.resize(kept);
     pool_pts.resize(kept);
     int total = 0;
     for (const PlaneRegions& r : regions) total += static_cast<int>(r.members.size()) * stride * stride;
@@ -961,9 +1023,13 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     sup.surface.point_count = fd.points;
     sup.area_m2 = hull_area(fd.hull);
     sup.furniture = sup.area_m2 > params.furniture_area_m2;
-    double nearest = 1e9;
-    for (int i : fd.regions.members) nearest = std::min(nearest, norm(to_vec(f.points[i])));
-    sup.distance_m = nearest;
+    // The smallest squared distance, then its root: the root is monotonic.
+    double nearest2 = 1e18;
+    for (int i : fd.regions.members) {
+      const Vec3 p = to_vec(f.points[i]);
+      nearest2 = std::min(nearest2, dot(p, p));
+    }
+    sup.distance_m = fd.regions.members.empty() ? 1e9 : std::sqrt(nearest2);
     for (const auto& q : fd.hull.pts) {
       Vec3 p = fd.hull.u * q[0] + fd.hull.v * q[1];
       p = p - fd.plane.n * (dot(fd.plane.n, p) + fd.plane.d);
@@ -1262,12 +1328,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   // hold depth (a Kinect leaves a few invalid rows and columns at its edges).
   int left = 0, right = f.width - 1, top = 0, bottom = f.height - 1;
   {
-    const int gw = (f.width + stride - 1) / stride, gh = (f.height + stride - 1) / stride;
-    std::vector<int> rows(static_cast<size_t>(gh), 0), cols(static_cast<size_t>(gw), 0);
-    for (int i : strided) {
-      ++rows[static_cast<size_t>(i / f.width / stride)];
-      ++cols[static_cast<size_t>(i % f.width / stride)];
-    }
+    const std::vector<int>& rows = valid_rows;
+    const std::vector<int>& cols = valid_cols;
     auto first = [](const std::vector<int>& v, int need) {
       for (size_t k = 0; k < v.size(); ++k)
         if (v[k] >= need) return static_cast<int>(k);

@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <utility>
+#include <vector>
 
 #include "annex/common/object_finder.h"
 #include "annex/formats/haptic_format.h"
@@ -130,6 +132,50 @@ TEST(PlaneCandidates, APlanePrimitiveMatchesARealFlatSurface) {
   EXPECT_EQ(scene.objects[static_cast<size_t>(*m.matches[1].physical_index)].id,
             scan->scene.objects[static_cast<size_t>(*without.matches[1].physical_index)].id);
   EXPECT_DOUBLE_EQ(m.matches[1].vote, without.matches[1].vote);
+}
+
+// A support whose hull reaches far beyond what the camera saw of it (the floor margin,
+// the camera's foot): the free rectangle is the seen patch less the clearance around
+// what stands on it, wherever the patch lies in the hull. A 60 x 40 cm patch, 1 m
+// below the camera, 2.5 m of hull on every side; a 10 cm block on its left end.
+TEST(PlaneCandidates, TheFreeRectangleIsTheSeenPatchInAWideHull) {
+  const Vec3 up{0, -1, 0};
+  const double d = 1.0;  // the plane y = 1 (n = up): n.p + d = 0
+  for (const double x0 : {-0.3, 0.45}) {
+    Frame f;
+    auto add = [&](double x, double y, double z) {
+      PointXYZRGB p;
+      p.x = static_cast<float>(x), p.y = static_cast<float>(y), p.z = static_cast<float>(z);
+      f.points.push_back(p);
+    };
+    for (double x = x0; x <= x0 + 0.6 + 1e-9; x += 0.004)
+      for (double z = 1.8; z <= 2.2 + 1e-9; z += 0.004) add(x, d, z);
+    for (double x = x0; x <= x0 + 0.1 + 1e-9; x += 0.004)  // the block's top, 8 cm up
+      for (double z = 1.95; z <= 2.05 + 1e-9; z += 0.004) add(x, d - 0.08, z);
+    f.width = static_cast<int>(f.points.size());
+    f.height = 1;
+    ScanResult scan;
+    ScanSupport sp;
+    sp.surface.id = "s1";
+    sp.surface.plane = {up, d};
+    sp.selected = true;
+    for (const auto& [x, z] : std::vector<std::pair<double, double>>{
+             {x0 - 2.5, -0.5}, {x0 + 3.1, -0.5}, {x0 + 3.1, 4.5}, {x0 - 2.5, 4.5}})
+      sp.hull.push_back({x, d, z});
+    scan.supports.push_back(sp);
+    const std::vector<PhysicalObject> out = find_plane_candidates(f, scan, ScanParams{});
+    ASSERT_EQ(out.size(), 1u) << x0;
+    ASSERT_EQ(out[0].id, "s1.free");
+    const PhysicalPrimitive& p = out[0].primitives[0];
+    // Right of the block and its 3 cm clearance: 60 - 10 - 3 = 47 cm by 40 cm, give or
+    // take the 1 cm cells and the closing at the patch's edges.
+    EXPECT_NEAR(p.dimensions_m[0], 0.47, 0.025) << x0;
+    EXPECT_NEAR(p.dimensions_m[1], 0.40, 0.025) << x0;
+    EXPECT_NEAR(p.center.x, x0 + 0.1 + 0.03 + 0.235, 0.015) << x0;
+    EXPECT_NEAR(p.center.z, 2.0, 0.015) << x0;
+    EXPECT_NEAR(p.center.y, d, 1e-6) << x0;
+    EXPECT_GT(out[0].point_count, 0);
+  }
 }
 
 }  // namespace
