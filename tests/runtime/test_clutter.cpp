@@ -12,6 +12,7 @@
 #include "annex/runtime/object_segmenter.h"
 #include "annex/runtime/object_shape_recognizer.h"
 #include "annex/runtime/scanner.h"
+#include "annex/runtime/synthetic_scene.h"
 #include "osd_eval.h"
 
 namespace annex {
@@ -306,6 +307,43 @@ TEST(ObjectShapeRecognizer, PotWithLipAndHandlesIsACylinderOfItsBody) {
   EXPECT_GT(dot(normalized(p.axis), t.n), 0.97);
   EXPECT_NEAR(p.dimensions_m[0], r, 0.004);
   EXPECT_NEAR(p.dimensions_m[1], h, 0.01);
+}
+
+// A storage box on the table, wide enough that its top is a support of its own, and a
+// can standing on that top: the can stands on the box by the support's id (no geometry
+// re-derived), is fitted on the box top, and names that support.
+TEST(ClutterStacking, ObjectOnABoxTopSupportStandsOnTheBox) {
+  SyntheticSceneParams sp;
+  sp.seed = 3;
+  sp.object_count = 1;
+  sp.camera_distance_min_m = sp.camera_distance_max_m = 1.0;
+  sp.camera_tilt_min_deg = sp.camera_tilt_max_deg = 45;
+  Result<SyntheticScene> scene = generate_scene(sp);
+  ASSERT_TRUE(scene.ok()) << scene.error().format();
+  scene->objects.clear();
+  scene->occluder.reset();
+  scene->furniture.clear();
+  const double box_h = 0.2, can_h = 0.12;
+  scene->objects.push_back(resting_object(ShapeKind::box, {0.32, 0.26, box_h}, 0, 0.05));
+  SyntheticObject can = resting_object(ShapeKind::cylinder, {0.04, can_h}, 0.02, 0.05);
+  can.center.z += box_h;
+  scene->objects.push_back(can);
+  Result<ScanResult> scan = scan_frame(render_scene(*scene).frame);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  ASSERT_GE(scan->supports.size(), 2u);
+  ASSERT_EQ(scan->scene.objects.size(), 2u);
+  const PhysicalObject* box = nullptr;
+  const PhysicalObject* top = nullptr;
+  for (const PhysicalObject& o : scan->scene.objects) {
+    ASSERT_FALSE(o.primitives.empty()) << o.id;
+    (o.primitives[0].kind == ShapeKind::cylinder ? top : box) = &o;
+  }
+  ASSERT_TRUE(box && top);
+  EXPECT_EQ(box->primitives[0].kind, ShapeKind::box);
+  EXPECT_EQ(top->on_object, box->id);
+  EXPECT_TRUE(box->on_object.empty());
+  EXPECT_NE(top->support_id, box->support_id);  // the box's top, not the table
+  EXPECT_NEAR(top->primitives[0].dimensions_m[1], can_h, 0.015);
 }
 
 // OSD learning scenes: the scan with default parameters against the labels.
