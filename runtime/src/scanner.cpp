@@ -1201,7 +1201,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
       for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
     for (const auto& [upper, lower] : stacked) {
       const int u = label[upper], l = label[lower];
-      if (u >= 0 && l >= 0 && u != l) result.clusters[u].on_object = l;
+      if (u < 0 || l < 0 || u == l) continue;
+      // Merged pieces may close a loop (a on b on a): no stack is a loop.
+      int at = l;
+      for (size_t step = 0; at >= 0 && at != u && step < result.clusters.size(); ++step)
+        at = result.clusters[static_cast<size_t>(at)].on_object;
+      if (at != u) result.clusters[u].on_object = l;
     }
   }
   // The image border as the sensor sees it: the rectangle of rows and columns that
