@@ -155,10 +155,16 @@ OsdSceneScore score_osd_scene(const OsdScene& scene, const ScanResult& scan,
     }
     const std::string kind =
         c.shape.primitives.empty() ? "unknown" : std::string(shape_name(c.shape.primitives.front().primitive.kind));
-    char note[200];
-    std::snprintf(note, sizeof note, "reported %zu %s points=%zu centre_on=%d ratio=%.2f%s%s%s",
-                  r, kind.c_str(), c.pixels.size(), centre_on, ratio, whole ? " whole" : "",
-                  fragment ? " fragment" : "", merge ? " merge" : "");
+    // The label holding most of its pixels (0: the table or no label), and its share.
+    int most = 0, most_n = 0;
+    for (const auto& [id, n] : held)
+      if (n > most_n) most = id, most_n = n;
+    char note[240];
+    std::snprintf(note, sizeof note,
+                  "reported %zu %s points=%zu centre_on=%d ratio=%.2f most=%d:%.2f%s%s%s", r,
+                  kind.c_str(), c.pixels.size(), centre_on, ratio, most,
+                  c.pixels.empty() ? 0.0 : static_cast<double>(most_n) / c.pixels.size(),
+                  whole ? " whole" : "", fragment ? " fragment" : "", merge ? " merge" : "");
     score.notes.push_back(note);
   }
   std::map<int, std::array<double, 3>> centre;  // object id -> sum u, sum v, count

@@ -172,9 +172,26 @@ bool in_lid(const Candidate& c, const Local& p) {
   return std::abs(cs * da + sn * db) < c.ex && std::abs(-sn * da + cs * db) < c.ey;
 }
 
+// Just outside the side of an upright cylinder, in the upper half of its body: where a
+// container's rim lip and handles sit (a pot, a mug). They stand out of the body by a
+// few millimetres (a lip) to a third of its radius (a handle) and are attached at the
+// rim, so they are parts of it, not evidence against it; a box's corners, which a
+// cylinder through its sides also leaves out, run down to its base. Not for cones: a
+// cone's narrowing top would take a jug's handle as such a part and beat the cylinder.
+bool in_rim_part(const Candidate& c, const Local& p, double tol) {
+  if (c.model != Model::cylinder) return false;
+  const double span = c.h1 - c.h0;
+  if (span <= 0 || p.h < c.h0 + 0.5 * span || p.h > c.h1 + tol) return false;
+  const double t = std::clamp((p.h - c.h0) / span, 0.0, 1.0);
+  const double r_at = c.r0 + (c.r1 - c.r0) * t;
+  const double rho = len2(p.a - c.ca, p.b - c.cb);
+  return rho > r_at && rho < r_at + tol + 0.35 * std::max(c.r0, c.r1);
+}
+
 // MSAC-style score (1 - (d/tol)^2 per explained point) and coverage. Points inside a
 // box's or cylinder's lid region count half: a carton's gable or a bottle's cap is
-// not the flat top the solid assumes, yet it is no evidence against the solid.
+// not the flat top the solid assumes, yet it is no evidence against the solid. So do a
+// container's rim lip and handles (in_rim_part).
 // Sides and tops are averaged with equal weight when both are seen: a wide, low box's
 // top is a cylinder's cap too, and only its flat sides tell them apart.
 void evaluate(Candidate& c, const Samples& s) {
@@ -190,7 +207,7 @@ void evaluate(Candidate& c, const Samples& s) {
       sq += d * d;
       covered[g] += 1;
       ++explained;
-    } else if (in_lid(c, s.p[i])) {
+    } else if (in_lid(c, s.p[i]) || in_rim_part(c, s.p[i], s.tol[i])) {
       score[g] += 0.5;
       covered[g] += 0.5;
     }

@@ -46,13 +46,19 @@ void join_occluded_pieces(const Frame& f, std::vector<ScanCluster>& clusters,
       if (A.shape.primitives.empty() || B.shape.primitives.empty()) continue;
       if (A.shape.primitives[0].primitive.kind != B.shape.primitives[0].primitive.kind) continue;
       // Along the image segment between the pieces' centres, every pixel that is
-      // neither piece must be nearer than both (the occluder) or have no depth (the
-      // occluder's shadow on the structured light); a pixel of the table or of a
-      // farther object shows the gap, and they are two objects.
+      // neither piece must be nearer than both (the occluder), have no depth (the
+      // occluder's shadow on the structured light) or be a pixel of no object, above
+      // the table and not behind the pieces (the hidden object's own edge and crease
+      // pixels, which no cluster kept); a pixel of the table or of a farther object
+      // shows the gap, and they are two objects.
       const double du = pieces[b].u - pieces[a].u, dv = pieces[b].v - pieces[a].v;
       const int steps = std::max(2, static_cast<int>(std::hypot(du, dv)));
       const double far_z = std::min(pieces[a].z, pieces[b].z) - params.min_occluder_gap_m;
+      const double back_z = std::max(pieces[a].z, pieces[b].z) + params.min_occluder_gap_m;
+      const Vec3 up = normalized(A.support.normal);
+      const double up_d = A.support.d / norm(A.support.normal);
       bool covered = true, occluder = false;
+      int unclaimed = 0;
       for (int s = 1; s < steps && covered; ++s) {
         const int u = static_cast<int>(std::lround(pieces[a].u + du * s / steps));
         const int v = static_cast<int>(std::lround(pieces[a].v + dv * s / steps));
@@ -65,8 +71,16 @@ void join_occluded_pieces(const Frame& f, std::vector<ScanCluster>& clusters,
           occluder = true;
           continue;
         }
+        const double h = dot(up, Vec3{q.x, q.y, q.z}) + up_d;
+        if (l < 0 && q.z < back_z && h > params.support_band_m) {
+          ++unclaimed;
+          continue;
+        }
         covered = false;
       }
+      // Edge pixels are a few along the segment; a long run of pixels of no object is
+      // something the scan dropped (a wall, a cupboard), not the hidden object's rim.
+      covered = covered && unclaimed <= params.max_unclaimed_share * steps;
       if (!covered || !occluder) continue;
       // One primitive of the same kind must explain both pieces together.
       ScanCluster joint;

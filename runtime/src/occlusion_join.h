@@ -17,6 +17,12 @@ struct OcclusionJoinParams {
   double min_occluder_gap_m = 0.02;
   // The joint fit may explain this much less than the worse piece's own fit.
   double coverage_slack = 0.05;
+  // A pixel in the gap this close to the support is the table: the pieces are apart.
+  double support_band_m = 0.015;
+  // Pixels of no object, above the table and not behind the pieces, may be at most this
+  // share of the segment between them (the hidden object's edge pixels, which no
+  // cluster kept).
+  double max_unclaimed_share = 0.1;
 };
 
 // clusters: the scan's objects; label: cluster index per pixel (-1 none), kept up to

@@ -1292,6 +1292,18 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
   });
   restack(result, normals, params);
+  if (params.stack_on_objects) {
+    // On a support that is another object's top (stacking.h): that object, by the id.
+    std::vector<std::vector<int>> tops(ns);
+    for (size_t k = 0; k < ns; ++k)
+      if (!result.supports[k].furniture) tops[k] = found[k].regions.members;
+    const std::vector<int> under = objects_under_supports(tops, label);
+    for (size_t c = 0; c < result.clusters.size(); ++c) {
+      const int o = under[static_cast<size_t>(clusters[c].support)];
+      if (o >= 0 && o != static_cast<int>(c) && result.clusters[c].on_object < 0)
+        result.clusters[c].on_object = o;
+    }
+  }
   // Which object stands on which, by one pixel of each: merging parts and joining
   // occluded pieces below renumber the clusters, and a pixel stays with its object.
   std::vector<std::pair<int, int>> stacked;
@@ -1321,7 +1333,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
       for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
     for (const auto& [upper, lower] : stacked) {
       const int u = label[upper], l = label[lower];
-      if (u >= 0 && l >= 0 && u != l) result.clusters[u].on_object = l;
+      if (u < 0 || l < 0 || u == l) continue;
+      // Merged pieces may close a loop (a on b on a): no stack is a loop.
+      int at = l;
+      for (size_t step = 0; at >= 0 && at != u && step < result.clusters.size(); ++step)
+        at = result.clusters[static_cast<size_t>(at)].on_object;
+      if (at != u) result.clusters[u].on_object = l;
     }
   }
   // The image border as the sensor sees it: the rectangle of rows and columns that

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace annex {
 namespace {
@@ -58,6 +59,20 @@ void fit_stacked_objects(std::vector<StackedObject>& objects, const Plane& suppo
     ObjectShape refit = recognize_object_shape(up.points, up.normals, face, params);
     if (!refit.primitives.empty()) up.shape = std::move(refit);
   }
+}
+
+std::vector<int> objects_under_supports(const std::vector<std::vector<int>>& surface_pixels,
+                                        const std::vector<int>& label, double min_share) {
+  std::vector<int> owner(surface_pixels.size(), -1);
+  for (size_t k = 0; k < surface_pixels.size(); ++k) {
+    std::map<int, size_t> count;
+    for (int i : surface_pixels[k])
+      if (i >= 0 && static_cast<size_t>(i) < label.size() && label[static_cast<size_t>(i)] >= 0)
+        ++count[label[static_cast<size_t>(i)]];
+    for (const auto& [c, n] : count)
+      if (!surface_pixels[k].empty() && n >= min_share * surface_pixels[k].size()) owner[k] = c;
+  }
+  return owner;
 }
 
 }  // namespace annex

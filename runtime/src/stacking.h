@@ -22,4 +22,13 @@ struct StackedObject {
 void fit_stacked_objects(std::vector<StackedObject>& objects, const Plane& support,
                          const ShapeRecognizerParams& params, double band_m = 0.03);
 
+// The object whose top each support is. A support that is no furniture (a storage box's
+// or a carton's top, found as a support of its own) stays part of the object under it,
+// so the cluster holding most of its surface pixels is that object; objects standing
+// on the support stand on it, by the support's id, with no geometry re-derived.
+// surface_pixels: per support, its surface's pixels; label: cluster index per pixel
+// (-1 none). Returns per support the cluster index, or -1 (furniture, the floor).
+std::vector<int> objects_under_supports(const std::vector<std::vector<int>>& surface_pixels,
+                                        const std::vector<int>& label, double min_share = 0.5);
+
 }  // namespace annex

@@ -12,6 +12,7 @@
 #include "annex/runtime/object_segmenter.h"
 #include "annex/runtime/object_shape_recognizer.h"
 #include "annex/runtime/scanner.h"
+#include "annex/runtime/synthetic_scene.h"
 #include "osd_eval.h"
 
 namespace annex {
@@ -259,6 +260,92 @@ TEST(ObjectShapeRecognizer, BowlIsAFrustumNarrowingDownNotASphere) {
   EXPECT_NEAR(p.dimensions_m[1], h, 0.012);
 }
 
+// A pot seen from above: an open cylinder (outer front wall, inner far wall) with a
+// 1.5 cm rim lip and two handles at its top, flat and facing up. They stand outside the body's
+// radius, so they are no cap and no side of it: the pot is still the cylinder of its
+// body, not `unknown` (learn36-38's pot).
+TEST(ObjectShapeRecognizer, PotWithLipAndHandlesIsACylinderOfItsBody) {
+  const TiltedTable t;
+  const double r = 0.084, h = 0.10, lip = 0.015, handle = 0.035;
+  const Vec3 base = t.foot, e1 = t.level(0), e2 = cross(t.n, e1);
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> noise(0, 0.0012);
+  std::vector<Vec3> pts, nrm;
+  auto add = [&](const Vec3& p, const Vec3& n) {
+    pts.push_back(p + normalized(p) * noise(rng));
+    nrm.push_back(n);
+  };
+  for (int i = 0; i < 120; ++i) {
+    const double a = 2 * kPi * i / 120;
+    const Vec3 radial = e1 * std::cos(a) + e2 * std::sin(a);
+    for (int j = 0; j <= 30; ++j) {
+      const double z = h * j / 30.0;
+      if (z < 0.012) continue;  // the table's band
+      const Vec3 p = base + t.n * z + radial * r;
+      if (dot(radial, p) < 0)
+        add(p, radial);
+      else if (z > h / 3)
+        add(p, radial * -1.0);
+    }
+    // The lip is rolled outwards from 3 mm outside the wall and down by 8 mm.
+    for (int k = 0; k < 6; ++k) {
+      const double f = (k + 0.5) / 6;
+      add(base + t.n * (h - 0.008 * f) + radial * (r + 0.003 + lip * f), t.n);
+    }
+  }
+  // The handles: 3 cm wide tabs reaching 3.5 cm out at either side, level with the rim.
+  for (const double side : {-1.0, 1.0})
+    for (int i = 0; i < 12; ++i)
+      for (int k = 0; k < 12; ++k)
+        add(base + t.n * (h - 0.004) + e2 * (side * (r + lip + (handle - lip) * k / 11.0)) +
+                e1 * (0.03 * (i / 11.0 - 0.5)),
+            t.n);
+  const ObjectShape shape = recognize_object_shape(pts, nrm, t.plane());
+  ASSERT_FALSE(shape.primitives.empty());
+  const PhysicalPrimitive& p = shape.primitives[0].primitive;
+  ASSERT_EQ(p.kind, ShapeKind::cylinder);
+  EXPECT_GT(dot(normalized(p.axis), t.n), 0.97);
+  EXPECT_NEAR(p.dimensions_m[0], r, 0.004);
+  EXPECT_NEAR(p.dimensions_m[1], h, 0.01);
+}
+
+// A storage box on the table, wide enough that its top is a support of its own, and a
+// can standing on that top: the can stands on the box by the support's id (no geometry
+// re-derived), is fitted on the box top, and names that support.
+TEST(ClutterStacking, ObjectOnABoxTopSupportStandsOnTheBox) {
+  SyntheticSceneParams sp;
+  sp.seed = 3;
+  sp.object_count = 1;
+  sp.camera_distance_min_m = sp.camera_distance_max_m = 1.0;
+  sp.camera_tilt_min_deg = sp.camera_tilt_max_deg = 45;
+  Result<SyntheticScene> scene = generate_scene(sp);
+  ASSERT_TRUE(scene.ok()) << scene.error().format();
+  scene->objects.clear();
+  scene->occluder.reset();
+  scene->furniture.clear();
+  const double box_h = 0.2, can_h = 0.12;
+  scene->objects.push_back(resting_object(ShapeKind::box, {0.32, 0.26, box_h}, 0, 0.05));
+  SyntheticObject can = resting_object(ShapeKind::cylinder, {0.04, can_h}, 0.02, 0.05);
+  can.center.z += box_h;
+  scene->objects.push_back(can);
+  Result<ScanResult> scan = scan_frame(render_scene(*scene).frame);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  ASSERT_GE(scan->supports.size(), 2u);
+  ASSERT_EQ(scan->scene.objects.size(), 2u);
+  const PhysicalObject* box = nullptr;
+  const PhysicalObject* top = nullptr;
+  for (const PhysicalObject& o : scan->scene.objects) {
+    ASSERT_FALSE(o.primitives.empty()) << o.id;
+    (o.primitives[0].kind == ShapeKind::cylinder ? top : box) = &o;
+  }
+  ASSERT_TRUE(box && top);
+  EXPECT_EQ(box->primitives[0].kind, ShapeKind::box);
+  EXPECT_EQ(top->on_object, box->id);
+  EXPECT_TRUE(box->on_object.empty());
+  EXPECT_NE(top->support_id, box->support_id);  // the box's top, not the table
+  EXPECT_NEAR(top->primitives[0].dimensions_m[1], can_h, 0.015);
+}
+
 // OSD learning scenes: the scan with default parameters against the labels.
 std::optional<OsdSceneScore> score_scene(const std::string& name) {
   const std::filesystem::path dir = std::filesystem::path(ANNEX_SHARED_DIR) / "data/osd-learn";
@@ -297,11 +384,18 @@ TEST(ClutterOsd, BoxSeenEitherSideOfACanIsOneBox) {
   const auto s = score_scene("learn31");
   if (s) EXPECT_EQ(s->fragments, 0);
 }
-TEST(ClutterOsd, CanLyingBehindABoxIsACylinder) {
-  const auto s = score_scene("learn30");
-  if (!s) GTEST_SKIP() << "../shared/data/osd-learn is absent: OSD test skipped";
-  EXPECT_EQ(s->found, 2);
-  for (const OsdObjectScore& o : s->objects) EXPECT_TRUE(o.shape_ok) << "object " << o.id << " " << o.reported;
+// The can lying behind a box shows either side of it: one cylinder, not two pieces
+// (the pixels of its hidden middle's edges that no cluster kept do not part them).
+TEST(ClutterOsd, CanLyingBehindABoxIsOneCylinder) {
+  for (const char* name : {"learn30", "learn32"}) {
+    const auto s = score_scene(name);
+    if (!s) GTEST_SKIP() << "../shared/data/osd-learn is absent: OSD test skipped";
+    EXPECT_EQ(s->found, 2) << name;
+    EXPECT_EQ(s->fragments, 0) << name;
+    EXPECT_EQ(s->reported, 2) << name;
+    for (const OsdObjectScore& o : s->objects)
+      EXPECT_TRUE(o.shape_ok) << name << " object " << o.id << " " << o.reported;
+  }
 }
 
 // The upper box of learn20 and the jar of learn42 stand on the lower object's top: their
@@ -388,6 +482,22 @@ TEST(ClutterOsd, BowlsAreFrustums) {
       cones += o.reported == "cone";
     }
     EXPECT_GE(cones, 1) << name;
+  }
+}
+
+// learn36-38: the pot with handles is a cylinder (or a cone) of its body, not unknown;
+// its body is about 17 cm across.
+TEST(ClutterOsd, PotWithHandlesIsItsBody) {
+  for (const char* name : {"learn36", "learn37", "learn38"}) {
+    const auto s = score_scene(name);
+    if (!s) GTEST_SKIP() << "../shared/data/osd-learn is absent: OSD test skipped";
+    int pots = 0;
+    for (const OsdObjectScore& o : s->objects) {
+      if (o.expected != "frustum" || o.reported == "cone") continue;
+      EXPECT_EQ(o.reported, "cylinder") << name << " object " << o.id;
+      ++pots;
+    }
+    EXPECT_EQ(pots, 1) << name;
   }
 }
 
