@@ -260,10 +260,21 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
   std::vector<TrackingInput> inputs(tracks.size(), input);
   for (size_t i = 0; i < tracks.size(); ++i)
     if (auto s = support_below(supports_, tracks[i]->pose.position)) inputs[i].support = s;
+  // Re-initialisation candidates: the last scan's primitives of the track's shape, except
+  // on an object another prop holds (within same_prop_m of its centre, as when
+  // associating): a hidden sphere's model fits a neighbouring cylinder's side at 0.7.
+  auto held_by_other = [&](const PhysicalObject& o, size_t i) {
+    for (size_t j = 0; j < tracks.size(); ++j)
+      if (j != i && tracks[j]->state != TrackingState::lost &&
+          distance_to(o, tracks[j]->pose.position) <= params_.same_prop_m)
+        return true;
+    return false;
+  };
   for (size_t i = 0; i < tracks.size(); ++i)
     for (const PhysicalObject& o : last_scan_objects_)
-      for (const PhysicalPrimitive& p : o.primitives)
-        if (p.kind == tracks[i]->model->kind) inputs[i].candidates.push_back(p.center);
+      if (!held_by_other(o, i))
+        for (const PhysicalPrimitive& p : o.primitives)
+          if (p.kind == tracks[i]->model->kind) inputs[i].candidates.push_back(p.center);
   const auto t_track = Clock::now();
   if (!tracks.empty())
     workers_->trackers.start(static_cast<int>(tracks.size()), [&](int i) {

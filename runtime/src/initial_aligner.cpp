@@ -29,9 +29,12 @@ InitialAlignResult align_initial(const TrackingModel& model, const InitialAlignI
   const Vec3 up = input.support ? input.support->normal : rotate(input.orientation, {0, 0, 1});
   const int yaws = model.symmetry == Symmetry::spherical ? 1 : std::max(1, params.yaw_hypotheses);
   const double half = model.radius_m + params.search_margin_m;
-  // ICP from a seed may legitimately travel far: only the result's fit decides.
+  // ICP from a seed may turn freely, but its result must stay within the volume searched
+  // around the seed: a centre farther than `half` was pulled there by points at the
+  // cube's edge, of something else (a hidden sphere's model fits a neighbouring
+  // cylinder's side at 0.6-0.7 fitness).
   IcpParams icp = params.icp;
-  icp.max_step_m = half * 2;
+  icp.max_step_m = half;
   icp.max_step_deg = 180;
 
   std::vector<Vec3> positions;

@@ -85,6 +85,14 @@ Result<CameraIntrinsics> estimate_intrinsics(const Frame& frame) {
   return k;
 }
 
+Vec3 grid_normal_at(const Frame& frame, int u, int v, int step_px) {
+  if (!frame.organized() || u < 0 || v < 0 || u >= frame.width || v >= frame.height)
+    return {0, 0, 0};
+  const PointXYZRGB& p = frame.points[static_cast<size_t>(v) * frame.width + u];
+  if (!valid(p)) return {0, 0, 0};
+  return grid_normal(frame, u, v, std::max(1, step_px), to_vec(p));
+}
+
 PixelRect project_cube(const CameraIntrinsics& k, Vec3 c, double h) {
   double umin = 1e9, umax = -1e9, vmin = 1e9, vmax = -1e9;
   for (int i = 0; i < 8; ++i) {

@@ -43,7 +43,10 @@ struct MotionRun {
   std::vector<double> track_ms;   // per object per frame (segment + ICP + alignment)
   std::vector<double> camera_ms;  // per frame
   // The same as CPU time of the calling thread (what the work costs, whatever else runs).
+  // camera_cpu_ms: the estimate and the next frame's static scene model, as the session
+  // does both once per frame.
   std::vector<double> track_cpu_ms, camera_cpu_ms;
+  int camera_still_frames = 0;  // frames the still test ended (no registration)
   // Camera motion error per frame (estimate against truth): the largest displacement
   // error at a prop's centre, and the rotation error.
   std::vector<double> camera_error_mm, camera_error_deg;
@@ -112,6 +115,7 @@ inline MotionRun run_motion(const MotionScene& scene, const std::vector<Syntheti
       run.camera_ms.push_back(ms_between(t0, Clock::now()));
       motion = m.motion;
       last_motion = m.motion;
+      run.camera_still_frames += m.still;
       const Pose truth = compose(inverse(motion_camera_pose(scene, frame)),
                                  motion_camera_pose(scene, frame - 1));
       // Where the motion puts the props' centres (what the trackers predict from): a
@@ -125,9 +129,9 @@ inline MotionRun run_motion(const MotionScene& scene, const std::vector<Syntheti
       run.camera_error_mm.push_back(worst * 1000);
       run.camera_error_deg.push_back(rotation_angle_deg(truth.rotation, motion.rotation));
       if (std::getenv("ANNEX_TRACE_MOTION"))
-        std::printf("frame %d camera %s err %.1f mm %.2f deg fit %.2f rms %.1f mm (truth %.2f deg)\n",
-                    frame, m.ok ? "ok" : "FAILED", run.camera_error_mm.back(),
-                    run.camera_error_deg.back(), m.fitness, m.rms_m * 1000,
+        std::printf("frame %d camera %s%s err %.1f mm %.2f deg fit %.2f rms %.1f mm chi2 %.1f (truth %.2f deg)\n",
+                    frame, m.ok ? "ok" : "FAILED", m.still ? " still" : "", run.camera_error_mm.back(),
+                    run.camera_error_deg.back(), m.fitness, m.rms_m * 1000, m.still_chi2,
                     rotation_angle_deg(truth.rotation, Quat{}));
 
     }
@@ -167,8 +171,11 @@ inline MotionRun run_motion(const MotionScene& scene, const std::vector<Syntheti
           posed ? rotation_error_deg(scene.props[i].kind, truth.rotation, tracks[i].pose.rotation)
                 : std::nan(""));
     }
-    if (options.camera_motion)
+    if (options.camera_motion) {
+      const double c0 = thread_cpu_ms();
       static_scene = static_scene_model(f.frame, camera, moving_props(tracks, cam_params), cam_params);
+      run.camera_cpu_ms.back() += thread_cpu_ms() - c0;
+    }
   }
   return run;
 }

@@ -53,4 +53,9 @@ struct PixelRect {
 };
 PixelRect project_cube(const CameraIntrinsics& camera, Vec3 center, double half_size_m);
 
+// The grid normal at pixel (u, v) of an organized frame: the cross product of the
+// neighbours `step_px` left/right and up/down, turned towards the camera; zero across
+// depth edges, at dropouts and outside the image (the normals of TargetCloud).
+Vec3 grid_normal_at(const Frame& frame, int u, int v, int step_px);
+
 }  // namespace annex
