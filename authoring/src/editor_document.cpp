@@ -156,9 +156,12 @@ const fs::file_time_type kProgramStart = fs::file_time_type::clock::now();
 }  // namespace
 
 void EditorDocument::remove_stale_temporaries_of(const fs::path& spec_path) {
-  for (const fs::path& p : remove_stale_temporaries(spec_path, kProgramStart))
-    log_.push_back("removed '" + p.string() +
-                   "', the temporary file of an interrupted save (it never replaced the spec)");
+  // The spec's and its autosave sidecar's (autosaves are written the same way).
+  for (const fs::path& target : {spec_path, autosave_path_for(spec_path)})
+    for (const fs::path& p : remove_stale_temporaries(target, kProgramStart))
+      log_.push_back("removed '" + p.string() +
+                     "', the temporary file of an interrupted save (it never replaced the " +
+                     (target == spec_path ? "spec" : "autosave") + ")");
 }
 
 std::vector<std::string> EditorDocument::take_log() {

@@ -134,8 +134,7 @@ bool is_temporary_of(const std::filesystem::path& candidate, const std::filesyst
     return false;
   for (std::size_t i = prefix.size(); i < name.size(); ++i) {
     const char c = name[i];
-    if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9')))
-      return false;
+    if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9'))) return false;
   }
   return true;
 }

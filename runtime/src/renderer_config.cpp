@@ -174,10 +174,10 @@ Result<HmdConfig> parse_hmd_config(std::string_view text, std::string_view origi
     return Error{"empty input; expected the header 'annex-hmd 1'", lexer.end_location()};
   if (warnings != nullptr && unknown_keys > kMaxUnknownKeyWarnings) {
     const int more = unknown_keys - kMaxUnknownKeyWarnings;
-    warnings->push_back(Diagnostic{
-        std::to_string(more) + " more unknown key" + (more == 1 ? "" : "s") +
-            " ignored, from here to line " + std::to_string(last_unknown_line),
-        std::move(first_unwarned)});
+    warnings->push_back(Diagnostic{std::to_string(more) + " more unknown key" +
+                                       (more == 1 ? "" : "s") + " ignored, from here to line " +
+                                       std::to_string(last_unknown_line),
+                                   std::move(first_unwarned)});
   }
   if (fov_deg && both)
     return error_at(origin, fov_token.line > intrinsics_token.line ? fov_token : intrinsics_token,

@@ -268,9 +268,13 @@ TEST(SceneFormat, ValidateUsesTheReaderWords) {
        "scan: object 'p1'", "height must be positive, found -1"},
       {"fat torus", [](PhysicalScene& s) { s.objects[2].primitives[0].dimensions_m[1] = 1; },
        "scan: object 'p3'", "torus minor_radius 1 must be smaller than major_radius 0.05"},
-      {"zero axis", [](PhysicalScene& s) { s.objects[0].primitives[1].axis = Vec3{0, 0, 0}; },
+      {"zero axis",
+       [](PhysicalScene& s) {
+         s.objects[0].primitives[1].axis = Vec3{0, 0, 0};
+       },
        "scan: object 'p1'", "axis must be a non-zero vector"},
-      {"missing dimension", [](PhysicalScene& s) { s.objects[0].primitives[1].dimensions_m.pop_back(); },
+      {"missing dimension",
+       [](PhysicalScene& s) { s.objects[0].primitives[1].dimensions_m.pop_back(); },
        "scan: object 'p1'", "cone is missing dimension 'height'"},
       {"fit range", [](PhysicalScene& s) { s.objects[1].fit = 2; }, "scan: object 'p2'",
        "fit must be in [0, 1], found 2"},

@@ -19,16 +19,16 @@ namespace annex::test {
 // generate_scene with this seed, these kinds (drawn in turn) and this many objects.
 inline SyntheticScene make_scene(std::uint64_t seed,
                                  std::vector<ShapeKind> kinds = {ShapeKind::cylinder,
-                                                                 ShapeKind::sphere,
-                                                                 ShapeKind::box},
+                                                                 ShapeKind::sphere, ShapeKind::box},
                                  int objects = 3) {
   SyntheticSceneParams p;
   p.seed = seed;
   p.object_count = objects;
   p.kinds = std::move(kinds);
   Result<SyntheticScene> s = generate_scene(p);
-  if (!s) throw std::runtime_error("no scene from seed " + std::to_string(seed) + ": " +
-                                   s.error().format());
+  if (!s)
+    throw std::runtime_error("no scene from seed " + std::to_string(seed) + ": " +
+                             s.error().format());
   return std::move(s).value();
 }
 
@@ -45,8 +45,7 @@ inline SyntheticScene three_props(std::uint64_t seed) {
     if (o.size() == 3 && o[0].kind != o[1].kind && o[1].kind != o[2].kind && o[0].kind != o[2].kind)
       return std::move(s).value();
   }
-  throw std::runtime_error("no scene of three different shapes from seed " +
-                           std::to_string(seed));
+  throw std::runtime_error("no scene of three different shapes from seed " + std::to_string(seed));
 }
 
 // One virtual object per synthetic object, of its shape and size ("v0", "v1", ...).

@@ -39,8 +39,8 @@ const fs::path kRealDir = fs::path(ANNEX_SHARED_DIR) / "data" / "real";
                << " (the ../shared data directory is not part of the repository)"
 
 using test::read_bytes;
-using test::write_bytes;
 using test::TempDir;
+using test::write_bytes;
 
 Frame small_frame(int w, int h, float z0) {
   Frame f;
@@ -222,8 +222,8 @@ TEST(Pcd, RejectsAFrameWhoseSizeDisagreesWithItsPoints) {
 TEST(Pcd, ReadsAsciiXyzOnlyAsGreyAndPackedRgbAsColour) {
   TempDir dir("ascii");
   write_bytes(dir.path() / "xyz.pcd",
-             "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\n"
-             "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n0 0 1\n0.1 0 1\nnan nan nan\n");
+              "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\n"
+              "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n0 0 1\n0.1 0 1\nnan nan nan\n");
   Result<Frame> f = read_pcd(dir.path() / "xyz.pcd");
   ASSERT_TRUE(f.ok()) << f.error().format();
   EXPECT_EQ(f->height, 1);  // unorganized
@@ -239,10 +239,11 @@ TEST(Pcd, ReadsAsciiXyzOnlyAsGreyAndPackedRgbAsColour) {
   std::memcpy(&packed, &bits, 4);
   char number[64];
   std::snprintf(number, sizeof number, "%.9g", static_cast<double>(packed));
-  write_bytes(dir.path() / "rgb.pcd",
-             std::string("VERSION .7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\n"
-                         "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n0 0 1 ") +
-                 number + "\n");
+  write_bytes(
+      dir.path() / "rgb.pcd",
+      std::string("VERSION .7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\n"
+                  "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n0 0 1 ") +
+          number + "\n");
   f = read_pcd(dir.path() / "rgb.pcd");
   ASSERT_TRUE(f.ok()) << f.error().format();
   EXPECT_EQ(f->points[0].r, 255);
@@ -316,22 +317,22 @@ TEST(Pcd, ErrorsNameTheFileAndTheProblem) {
   EXPECT_FALSE(read_pcd(dir.path() / "empty.pcd").ok());
 
   write_bytes(dir.path() / "noxyz.pcd",
-             "VERSION .7\nFIELDS a b c\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT 1\n"
-             "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n1 2 3\n");
+              "VERSION .7\nFIELDS a b c\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT 1\n"
+              "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n1 2 3\n");
   f = read_pcd(dir.path() / "noxyz.pcd");
   ASSERT_FALSE(f.ok());
   EXPECT_NE(f.error().message.find("missing field 'x'"), std::string::npos) << f.error().message;
 
   write_bytes(dir.path() / "nan.pcd",
-             "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\n"
-             "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\nnan nan nan\nnan nan nan\n");
+              "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\n"
+              "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\nnan nan nan\nnan nan nan\n");
   f = read_pcd(dir.path() / "nan.pcd");
   ASSERT_FALSE(f.ok());
   EXPECT_EQ(f.error().message, "all points are NaN");
 
   write_bytes(dir.path() / "zero.pcd",
-             "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 0\nHEIGHT 0\n"
-             "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 0\nDATA ascii\n");
+              "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 0\nHEIGHT 0\n"
+              "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 0\nDATA ascii\n");
   EXPECT_FALSE(read_pcd(dir.path() / "zero.pcd").ok());
 }
 
@@ -472,8 +473,8 @@ TEST(FrameGrabber, ABadFrameInADirectoryIsAnErrorNamingFrameAndFile) {
   TempDir dir("badframe");
   ASSERT_TRUE(write_pcd(dir.path() / "a.pcd", small_frame(2, 2, 1.0f)).ok());
   write_bytes(dir.path() / "b.pcd",
-             "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT 1\n"
-             "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\nnan nan nan\n");
+              "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT 1\n"
+              "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\nnan nan nan\n");
   ASSERT_TRUE(write_pcd(dir.path() / "c.pcd", small_frame(2, 2, 3.0f)).ok());
   auto g = open_frame_source(dir.path().string());
   ASSERT_TRUE(g.ok());
