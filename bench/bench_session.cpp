@@ -23,6 +23,7 @@
 
 #include "annex/runtime/annex_session.h"
 #include "annex/runtime/synthetic_scene.h"
+#include "session_fixture.h"
 
 namespace {
 
@@ -33,20 +34,6 @@ double percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
   return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
-}
-
-HapticSpec spec_for(const SyntheticScene& scene) {
-  HapticSpec spec;
-  for (size_t i = 0; i < scene.objects.size(); ++i) {
-    VirtualObject v;
-    v.name = "v" + std::to_string(i);
-    Primitive p = make_primitive(scene.objects[i].kind, "body");
-    for (size_t d = 0; d < p.dimensions.size(); ++d)
-      p.dimensions[d].value_m = scene.objects[i].dimensions_m[d];
-    v.primitives.push_back(p);
-    spec.objects.push_back(v);
-  }
-  return spec;
 }
 
 struct Mode {
@@ -89,7 +76,7 @@ int main(int argc, char** argv) {
     const int k = i % period;
     return frames[static_cast<size_t>(k < frame_count ? k : period - k)];
   };
-  const HapticSpec spec = spec_for(*scene);
+  const HapticSpec spec = test::spec_for(*scene);
   const Mode modes[] = {{"tracking", ScanMode::same_frame, 1 << 30},
                         {"background", ScanMode::background, 10},
                         {"same_frame", ScanMode::same_frame, 10}};

@@ -237,6 +237,14 @@ void EditorApp::open_document(const std::string& path, bool recover, Renderer& r
   if (!path.empty()) add_recent(path);
   frame_all(doc_, ui_);
   ui_.status = recover ? "Recovered the autosave: save to keep it." : "Opened " + path;
+  log_document_notes();
+}
+
+void EditorApp::log_document_notes() {
+  for (const std::string& note : doc_.take_log()) {
+    std::cerr << "annex-author: " << note << "\n";
+    ui_.status += "; " + note;
+  }
 }
 
 void EditorApp::run_action(const AppAction& a, Renderer& renderer) {
@@ -281,6 +289,7 @@ void EditorApp::run_action(const AppAction& a, Renderer& renderer) {
     case K::save_as: {
       const Status s = a.kind == K::save ? doc_.save() : doc_.save_as(a.path);
       ui_.status = s ? "Saved " + doc_.path().string() : "Not saved: " + s.error().format();
+      log_document_notes();
       if (s) add_recent(doc_.path().string());
       break;
     }

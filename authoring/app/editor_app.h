@@ -50,6 +50,8 @@ class EditorApp {
  private:
   void run_action(const AppAction& action, Renderer& renderer);
   void open_document(const std::string& path, bool recover, Renderer& renderer);
+  // The document's log lines (stale temporaries removed) to stderr and the status line.
+  void log_document_notes();
   void open_scene(const std::string& path);
   void add_recent(const std::string& path);
   void fail_script(const std::string& message);

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <iterator>
 #include <type_traits>
+#include <utility>
 
 #include "annex/authoring/fit.h"
 #include "annex/authoring/rank.h"
@@ -146,6 +147,27 @@ void EditorDocument::load_meshes() {
   }
 }
 
+namespace {
+
+// When this program started (its libraries were loaded): temporary files of a spec
+// written before it are not a save of this editor in progress.
+const fs::file_time_type kProgramStart = fs::file_time_type::clock::now();
+
+}  // namespace
+
+void EditorDocument::remove_stale_temporaries_of(const fs::path& spec_path) {
+  // The spec's and its autosave sidecar's (autosaves are written the same way).
+  for (const fs::path& target : {spec_path, autosave_path_for(spec_path)})
+    for (const fs::path& p : remove_stale_temporaries(target, kProgramStart))
+      log_.push_back("removed '" + p.string() +
+                     "', the temporary file of an interrupted save (it never replaced the " +
+                     (target == spec_path ? "spec" : "autosave") + ")");
+}
+
+std::vector<std::string> EditorDocument::take_log() {
+  return std::exchange(log_, {});
+}
+
 Result<EditorDocument> EditorDocument::open(const fs::path& path, bool recover) {
   std::error_code ec;
   const fs::path abs = fs::absolute(path, ec).lexically_normal();
@@ -166,6 +188,7 @@ Result<EditorDocument> EditorDocument::open(const fs::path& path, bool recover) 
     doc.saved_ = doc.spec_;
   }
   for (const Diagnostic& d : diags) doc.warnings_.push_back(d.format());
+  doc.remove_stale_temporaries_of(abs);
   doc.load_meshes();
   if (!doc.spec_.objects.empty()) doc.selection_ = {0, -1};
   return doc;
@@ -492,6 +515,7 @@ Status EditorDocument::save_as(const fs::path& path) {
   HapticSpec out = spec_;
   rebase_meshes(out, old_dir, new_dir);
   if (Status v = validate_haptic(out, abs.string()); !v) return v;
+  remove_stale_temporaries_of(abs);
   if (Status s = write_haptic_file(abs, out); !s) return s;
   remove_autosave();  // the old sidecar (untitled or the previous name)
   path_ = abs;

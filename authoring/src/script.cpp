@@ -350,6 +350,7 @@ Result<ScriptResult> run_document_command(EditorDocument& doc, const ScriptLine&
     if (!opened) return c.fail(opened.error().format());
     doc = std::move(opened).value();
     for (const std::string& warning : doc.warnings()) out.output += warning + "\n";
+    for (const std::string& note : doc.take_log()) out.output += note + "\n";
   } else if (verb == "import") {
     if (w.size() != 2 && w.size() != 3) return c.fail("usage: import MESH [NAME]");
     st = c.run(cmd::ImportMesh{doc.mesh_reference(w[1]), w.size() == 3 ? w[2] : ""});
@@ -396,6 +397,7 @@ Result<ScriptResult> run_document_command(EditorDocument& doc, const ScriptLine&
   } else if (verb == "save") {
     if (w.size() > 2) return c.fail("usage: save [FILE.haptic]");
     st = w.size() == 2 ? doc.save_as(w[1]) : doc.save();
+    for (const std::string& note : doc.take_log()) out.output += note + "\n";
     if (!st) return c.fail("cannot save: " + st.error().format());
   } else if (verb == "autosave") {
     st = doc.write_autosave();

@@ -1,6 +1,7 @@
 #include "annex/formats/file_io.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -72,17 +73,30 @@ Result<std::string> read_text_file(const std::filesystem::path& path, std::size_
   return text;
 }
 
+std::string temporary_prefix(const std::filesystem::path& path) {
+  return "." + path.filename().string() + ".tmp-";
+}
+
 Status write_file_atomically(const std::filesystem::path& path, std::string_view content) {
   const std::filesystem::path dir =
       path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
-  std::string tmpl = (dir / (path.filename().string().insert(0, 1, '.') + ".tmp-XXXXXX")).string();
+  std::string tmpl = (dir / (temporary_prefix(path) + "XXXXXX")).string();
   const int fd = ::mkstemp(tmpl.data());
   // Messages name the file the user asked for, not the temporary one beside it.
   if (fd < 0) return file_error(path, "cannot write", errno);
+  // The temporary is locked until it is renamed or removed, through a second
+  // descriptor of the same open file (fclose below closes the first): while the lock
+  // is held, remove_stale_temporaries leaves it alone. The lock goes with the process.
+  const int lock_fd = ::dup(fd);
+  if (lock_fd >= 0) ::flock(lock_fd, LOCK_EX);
   const std::filesystem::path tmp = tmpl;
+  const auto release = [&] {
+    if (lock_fd >= 0) ::close(lock_fd);
+  };
   const auto fail = [&](std::string_view what) {
     const int err = errno;
     ::unlink(tmp.c_str());
+    release();
     return Status(file_error(path, what, err));
   };
 
@@ -102,6 +116,7 @@ Status write_file_atomically(const std::filesystem::path& path, std::string_view
   if (::fsync(::fileno(file.get())) != 0) return fail("cannot sync");
   if (std::fclose(file.release()) != 0) return fail("cannot write");
   if (std::rename(tmp.c_str(), path.c_str()) != 0) return fail("cannot rename");
+  release();
   // Make the rename itself durable; a failure here cannot lose the old or new content.
   const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
   if (dfd >= 0) {
@@ -109,6 +124,46 @@ Status write_file_atomically(const std::filesystem::path& path, std::string_view
     ::close(dfd);
   }
   return Ok{};
+}
+
+bool is_temporary_of(const std::filesystem::path& candidate, const std::filesystem::path& path) {
+  const std::string name = candidate.filename().string();
+  const std::string prefix = temporary_prefix(path);
+  constexpr std::size_t kSuffix = 6;  // mkstemp's XXXXXX: letters and digits
+  if (name.size() != prefix.size() + kSuffix || name.compare(0, prefix.size(), prefix) != 0)
+    return false;
+  for (std::size_t i = prefix.size(); i < name.size(); ++i) {
+    const char c = name[i];
+    if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9'))) return false;
+  }
+  return true;
+}
+
+std::vector<std::filesystem::path> remove_stale_temporaries(
+    const std::filesystem::path& path, std::filesystem::file_time_type older_than) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> removed;
+  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  std::error_code ec;
+  fs::directory_iterator it(dir, ec), end;
+  for (; !ec && it != end; it.increment(ec)) {
+    const fs::path candidate = it->path();
+    if (!is_temporary_of(candidate, path)) continue;
+    // Not a link or anything but a plain file (O_NOFOLLOW), and written before
+    // `older_than`: a save that has just created its temporary and not locked it yet
+    // is newer than that.
+    const int fd = ::open(candidate.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) continue;
+    struct stat st {};
+    std::error_code time_ec;
+    const auto written = fs::last_write_time(candidate, time_ec);
+    const bool stale = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && !time_ec &&
+                       written < older_than &&
+                       ::flock(fd, LOCK_EX | LOCK_NB) == 0;  // no live save holds it
+    if (stale && ::unlink(candidate.c_str()) == 0) removed.push_back(candidate);
+    ::close(fd);
+  }
+  return removed;
 }
 
 }  // namespace annex

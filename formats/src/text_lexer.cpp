@@ -1,6 +1,7 @@
 #include "annex/formats/text_lexer.h"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -163,7 +164,19 @@ bool is_identifier(std::string_view s) {
 }
 
 std::size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  // Two rows over the shorter word; on the stack when it is short, as every key is
+  // (suggestion() runs for each unknown key of a file, so it must not allocate).
+  if (b.size() > a.size()) std::swap(a, b);
+  constexpr std::size_t kStackRow = 64;
+  std::array<std::size_t, kStackRow + 1> stack_prev{}, stack_cur{};
+  std::vector<std::size_t> heap_prev, heap_cur;
+  std::span<std::size_t> prev(stack_prev), cur(stack_cur);
+  if (b.size() > kStackRow) {
+    heap_prev.resize(b.size() + 1);
+    heap_cur.resize(b.size() + 1);
+    prev = heap_prev;
+    cur = heap_cur;
+  }
   for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i) {
     cur[0] = i;
@@ -183,6 +196,10 @@ std::string suggestion(std::string_view word, std::span<const std::string_view> 
   std::size_t best_d = limit + 1;
   if (word.size() <= 64) {
     for (std::string_view c : candidates) {
+      // The distance is at least the difference in length: no need to compute it.
+      const std::size_t length_gap =
+          word.size() > c.size() ? word.size() - c.size() : c.size() - word.size();
+      if (length_gap >= best_d) continue;
       const std::size_t d = edit_distance(word, c);
       if (d < best_d) {
         best_d = d;

@@ -25,6 +25,10 @@ constexpr std::string_view kHeader = "annex-hmd";
 constexpr int kVersion = 1;
 constexpr std::size_t kMaxConfigBytes = 64u << 10;
 constexpr int kMaxEyePixels = 16384;
+// Unknown keys are warned about one by one up to this many; the rest of a file that
+// is not an hmd.conf at all (thousands of unknown lines) gets one summary warning
+// instead of a message with suggestions per line.
+constexpr int kMaxUnknownKeyWarnings = 10;
 
 constexpr std::string_view kKeys[] = {"sensor_to_hmd_translation",
                                       "sensor_to_hmd_rotation",
@@ -70,6 +74,8 @@ Result<HmdConfig> parse_hmd_config(std::string_view text, std::string_view origi
   std::optional<Pinhole> both, left, right;
   Token fov_token, intrinsics_token;
   bool have_header = false;
+  int unknown_keys = 0, last_unknown_line = 0;
+  Location first_unwarned;
   Line line;
 
   for (;;) {
@@ -91,10 +97,14 @@ Result<HmdConfig> parse_hmd_config(std::string_view text, std::string_view origi
       for (std::string_view k : kKeys) known = known || key.text == k;
     }
     if (!known) {
-      if (warnings != nullptr)
+      if (warnings != nullptr && unknown_keys < kMaxUnknownKeyWarnings)
         warnings->push_back(Diagnostic{
             "unknown key " + shown(key) + " ignored" + detail::suggestion(key.text, kKeys),
             Location{std::string(origin), key.line, key.column}});
+      else if (unknown_keys == kMaxUnknownKeyWarnings)
+        first_unwarned = Location{std::string(origin), key.line, key.column};
+      ++unknown_keys;
+      last_unknown_line = key.line;
       continue;
     }
     if (auto it = seen.find(key.text); it != seen.end())
@@ -162,6 +172,13 @@ Result<HmdConfig> parse_hmd_config(std::string_view text, std::string_view origi
 
   if (!have_header)
     return Error{"empty input; expected the header 'annex-hmd 1'", lexer.end_location()};
+  if (warnings != nullptr && unknown_keys > kMaxUnknownKeyWarnings) {
+    const int more = unknown_keys - kMaxUnknownKeyWarnings;
+    warnings->push_back(Diagnostic{std::to_string(more) + " more unknown key" +
+                                       (more == 1 ? "" : "s") + " ignored, from here to line " +
+                                       std::to_string(last_unknown_line),
+                                   std::move(first_unwarned)});
+  }
   if (fov_deg && both)
     return error_at(origin, fov_token.line > intrinsics_token.line ? fov_token : intrinsics_token,
                     "'fov' and 'intrinsics' both set; give one of them");

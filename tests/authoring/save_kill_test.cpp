@@ -17,11 +17,13 @@
 #include <random>
 #include <sstream>
 #include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "annex/authoring/editor_document.h"
 #include "annex/authoring/script.h"
+#include "annex/formats/file_io.h"
 #include "annex/formats/haptic_format.h"
 #include "test_util.h"
 
@@ -76,6 +78,41 @@ class XServer {
   std::string display_;
 };
 
+// Starts annex-author on a script, its output to `log`, its state folder in dir/state.
+pid_t start_editor(const std::string& display, const fs::path& dir, const fs::path& script,
+                   const fs::path& log) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(out, 1);
+    ::dup2(out, 2);
+    ::setenv("DISPLAY", display.c_str(), 1);
+    ::setenv("ANNEX_AUTHOR_STATE_DIR", (dir / "state").c_str(), 1);
+    ::setenv("LSAN_OPTIONS", "detect_leaks=0", 1);  // Mesa's leaks, as in app_test.cpp
+    ::execl(ANNEX_AUTHOR_EXE, ANNEX_AUTHOR_EXE, "--script", script.c_str(), "--size", "320x240",
+            "--samples", "0", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  return pid;
+}
+
+// Runs annex-author on a script to its end; returns the wait status.
+int run_editor(const std::string& display, const fs::path& dir, const fs::path& script,
+               const fs::path& log) {
+  fs::create_directories(log.parent_path());
+  const pid_t pid = start_editor(display, dir, script, log);
+  int status = -1;
+  if (pid > 0) ::waitpid(pid, &status, 0);
+  return status;
+}
+
+std::vector<fs::path> temporaries_of(const fs::path& dir, const fs::path& spec) {
+  std::vector<fs::path> out;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (is_temporary_of(entry.path(), spec)) out.push_back(entry.path());
+  return out;
+}
+
 // Runs document commands in-process; fails the test on the first error.
 void run(EditorDocument& doc, const std::string& text) {
   auto lines = parse_script(text, "setup.script");
@@ -126,19 +163,8 @@ TEST(AuthorSave, KilledWhileSavingLeavesTheOldOrTheNewSpecWhole) {
     { std::ofstream(spec, std::ios::binary | std::ios::trunc) << old_text; }
     struct stat before {};
     ASSERT_EQ(::stat(spec.c_str(), &before), 0);
-    const pid_t pid = ::fork();
+    const pid_t pid = start_editor(x.display(), dir, dir / "save_loop.script", "/dev/null");
     ASSERT_GE(pid, 0);
-    if (pid == 0) {
-      const int null = ::open("/dev/null", O_WRONLY);
-      ::dup2(null, 1);
-      ::dup2(null, 2);
-      ::setenv("DISPLAY", x.display().c_str(), 1);
-      ::setenv("ANNEX_AUTHOR_STATE_DIR", (dir / "state").c_str(), 1);
-      ::setenv("LSAN_OPTIONS", "detect_leaks=0", 1);  // Mesa's leaks, as in app_test.cpp
-      ::execl(ANNEX_AUTHOR_EXE, ANNEX_AUTHOR_EXE, "--script", (dir / "save_loop.script").c_str(),
-              "--size", "320x240", "--samples", "0", static_cast<char*>(nullptr));
-      ::_exit(127);
-    }
     // Wait until the saves have begun (the spec's inode changes with the first rename),
     // then kill at a random moment within the next 40 ms.
     bool exited = false;
@@ -172,21 +198,43 @@ TEST(AuthorSave, KilledWhileSavingLeavesTheOldOrTheNewSpecWhole) {
     EXPECT_EQ(parsed->objects.size(), 120u);
     (text == old_text ? saw_old : saw_new)++;
     // A temporary file left beside the spec is a save the kill interrupted; the spec
-    // itself was untouched by it. Nothing else may appear in the folder.
+    // itself was untouched by it. Nothing else may appear in the folder. The next
+    // editor removes them when it opens the spec (below they accumulate until the
+    // last run: every kill's editor opened the spec before the first kill).
+    int temporaries = 0;
     for (const auto& entry : fs::directory_iterator(dir)) {
       const std::string name = entry.path().filename().string();
       if (name.rfind(".room.haptic.tmp-", 0) == 0) {
-        ++interrupted_saves;
-        fs::remove(entry.path());
+        ++temporaries;
       } else {
         EXPECT_TRUE(name == "room.haptic" || name == "save_loop.script" || name == "state" ||
                     name == "room.haptic.autosave")
             << "unexpected file after kill " << k << ": " << name;
       }
     }
+    // Each editor removed the temporaries the earlier kills left when it opened the
+    // spec, so at most the one of its own interrupted save remains.
+    EXPECT_LE(temporaries, 1) << "after kill " << k;
+    interrupted_saves += temporaries;
   }
   // Every run must have been killed while saving, not have finished or failed first.
   EXPECT_EQ(finished, 0) << "the editor ended before it was killed";
+  EXPECT_GT(interrupted_saves, 0) << "no kill landed inside a save";
+
+  // One normal open and save leaves no temporary file and says what it removed.
+  const std::vector<fs::path> left = temporaries_of(dir, spec);
+  testing::write_text(dir / "open_save.script", "open " + spec.string() + "\nsave\n");
+  const fs::path log = dir / "state" / "open_save.log";
+  const int status = run_editor(x.display(), dir, dir / "open_save.script", log);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << slurp(log);
+  EXPECT_TRUE(temporaries_of(dir, spec).empty());
+  const std::string said = slurp(log);
+  for (const fs::path& t : left)
+    EXPECT_NE(said.find("removed '" + t.string() + "', the temporary file of an interrupted save"),
+              std::string::npos)
+        << said;
+  const std::string text = slurp(spec);
+  EXPECT_TRUE(text == old_text || text == new_text);
   std::printf("%d kills: %d left the old spec, %d the new one, %d interrupted a save "
               "(its temporary file left beside the spec)\n",
               kills, saw_old, saw_new, interrupted_saves);

@@ -8,6 +8,9 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
 
 #include "annex/common/haptic_model.h"
 #include "annex/common/physical_scene.h"
@@ -160,6 +163,31 @@ inline PhysicalScene random_scene(Gen& g) {
     scene.objects.push_back(o);
   }
   return scene;
+}
+
+// One rule of a reader, with the exact message and where it points (toml++'s
+// parsing_should_fail): the table rows of the InvalidInputs tests.
+struct BadInput {
+  const char* name;
+  std::string text;
+  int line;
+  int column;
+  std::string message;
+};
+
+// Every case must fail with its message at its line and column of `origin`.
+template <typename Parse>
+void expect_located_errors(const std::vector<BadInput>& cases, Parse parse,
+                           const std::string& origin) {
+  for (const BadInput& c : cases) {
+    SCOPED_TRACE(c.name);
+    auto r = parse(c.text, origin);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, c.message);
+    EXPECT_EQ(r.error().location.origin, origin);
+    EXPECT_EQ(r.error().location.line, c.line);
+    EXPECT_EQ(r.error().location.column, c.column);
+  }
 }
 
 }  // namespace annex::test

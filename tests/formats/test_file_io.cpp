@@ -1,7 +1,12 @@
 #include "annex/formats/file_io.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
 
 #include <filesystem>
 #include <fstream>
@@ -92,6 +97,60 @@ TEST_F(FileIo, AtomicWriteFailureKeepsNothingBehind) {
   ASSERT_FALSE(st.ok());
   EXPECT_NE(st.error().message.find("cannot rename"), std::string::npos) << st.error().message;
   EXPECT_EQ(entries(), 1);
+}
+
+TEST_F(FileIo, StaleTemporariesAreRemovedUnlessLockedOrNewer) {
+  const fs::path spec = dir_ / "a.haptic";
+  std::ofstream(spec) << "spec\n";
+  const auto write = [&](const std::string& name) {
+    std::ofstream(dir_ / name) << "partial";
+    return dir_ / name;
+  };
+  const auto start = fs::file_time_type::clock::now();
+  const auto before = start - std::chrono::seconds(10);
+  const fs::path stale = write(".a.haptic.tmp-Ab12Cd");
+  const fs::path held = write(".a.haptic.tmp-held01");
+  const fs::path newer = write(".a.haptic.tmp-new001");
+  const fs::path other_spec = write(".b.haptic.tmp-Ab12Cd");
+  const fs::path short_name = write(".a.haptic.tmp-Ab12C");
+  const fs::path odd_char = write(".a.haptic.tmp-Ab_2Cd");
+  fs::create_directory(dir_ / ".a.haptic.tmp-dir001");
+  fs::create_symlink(spec, dir_ / ".a.haptic.tmp-lnk001");
+  for (const fs::path& p : {stale, held, other_spec, short_name, odd_char})
+    fs::last_write_time(p, before);
+  fs::last_write_time(newer, start + std::chrono::seconds(10));
+  EXPECT_TRUE(is_temporary_of(stale, spec));
+  EXPECT_FALSE(is_temporary_of(other_spec, spec));
+  EXPECT_FALSE(is_temporary_of(short_name, spec));
+  EXPECT_FALSE(is_temporary_of(odd_char, spec));
+
+  // A live save holds its temporary's lock (another open file, as in another process).
+  const int lock = ::open(held.c_str(), O_RDONLY);
+  ASSERT_GE(lock, 0);
+  ASSERT_EQ(::flock(lock, LOCK_EX), 0);
+  const auto removed = remove_stale_temporaries(spec, start);
+  ASSERT_EQ(removed.size(), 1u);
+  EXPECT_EQ(removed[0], stale);
+  EXPECT_FALSE(fs::exists(stale));
+  for (const fs::path& p : {held, newer, other_spec, short_name, odd_char, spec})
+    EXPECT_TRUE(fs::exists(p)) << p;
+  EXPECT_TRUE(fs::is_directory(dir_ / ".a.haptic.tmp-dir001"));
+  EXPECT_TRUE(fs::is_symlink(dir_ / ".a.haptic.tmp-lnk001"));
+  EXPECT_EQ(test::slurp(spec), "spec\n");
+
+  // Once the save's process is gone its lock is too, and the file is stale.
+  ::close(lock);
+  const auto later = remove_stale_temporaries(spec, start);
+  ASSERT_EQ(later.size(), 1u);
+  EXPECT_EQ(later[0], held);
+  EXPECT_TRUE(remove_stale_temporaries(spec, start).empty());
+  EXPECT_TRUE(fs::exists(newer));
+
+  // An atomic write leaves nothing of its own behind for the cleaner.
+  ASSERT_TRUE(write_file_atomically(spec, "new\n").ok());
+  EXPECT_EQ(remove_stale_temporaries(spec, start + std::chrono::hours(1)).size(), 1u);
+  EXPECT_FALSE(fs::exists(newer));
+  EXPECT_EQ(test::slurp(spec), "new\n");
 }
 
 TEST_F(FileIo, HapticAndSceneFilesRoundTrip) {

@@ -120,14 +120,7 @@ TEST(HapticFormat, WarnsWhenAllDimensionPrioritiesAreZero) {
             "counts");
 }
 
-// Every rule, with the exact message and where it points (toml++'s parsing_should_fail).
-struct BadInput {
-  const char* name;
-  std::string text;
-  int line;
-  int column;
-  std::string message;
-};
+using test::BadInput;
 
 std::string obj(const std::string& body) {
   return "annex-haptic 1\nobject a\n" + body + "end\n";
@@ -285,15 +278,9 @@ TEST(HapticFormat, InvalidInputsReportMessageLineAndColumn) {
       {"line too long", "annex-haptic 1\n# " + std::string(5000, 'x') + "\n", 2, 4097,
        "line is longer than 4096 bytes"},
   };
-  for (const BadInput& c : cases) {
-    SCOPED_TRACE(c.name);
-    auto r = parse_haptic(c.text, "bad.haptic");
-    ASSERT_FALSE(r.ok());
-    EXPECT_EQ(r.error().message, c.message);
-    EXPECT_EQ(r.error().location.origin, "bad.haptic");
-    EXPECT_EQ(r.error().location.line, c.line);
-    EXPECT_EQ(r.error().location.column, c.column);
-  }
+  test::expect_located_errors(
+      cases, [](const std::string& t, const std::string& o) { return parse_haptic(t, o); },
+      "bad.haptic");
 }
 
 TEST(HapticFormat, ErrorFormatsLikeACompiler) {

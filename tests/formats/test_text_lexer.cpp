@@ -68,6 +68,15 @@ TEST(TextLexer, Identifiers) {
 TEST(TextLexer, SuggestionsAndEditDistance) {
   EXPECT_EQ(edit_distance("raduis", "radius"), 2u);
   EXPECT_EQ(edit_distance("", "abc"), 3u);
+  EXPECT_EQ(edit_distance("abc", ""), 3u);
+  EXPECT_EQ(edit_distance("kitten", "sitting"), 3u);
+  EXPECT_EQ(edit_distance("sitting", "kitten"), 3u);
+  // Words longer than the stack row (64) in either position.
+  const std::string long_a(100, 'a');
+  const std::string long_b = std::string(70, 'a') + "b";
+  EXPECT_EQ(edit_distance(long_a, long_b), 30u);
+  EXPECT_EQ(edit_distance(long_b, long_a), 30u);
+  EXPECT_EQ(edit_distance(long_a, "b"), 100u);
   const std::string_view keys[] = {"radius", "height", "end"};
   EXPECT_EQ(suggestion("raduis", keys), "; did you mean 'radius'?");
   EXPECT_EQ(suggestion("ed", keys), "; did you mean 'end'?");

@@ -21,6 +21,7 @@
 #include "annex/runtime/annex_session.h"
 #include "annex/runtime/synthetic_scene.h"
 #include "cli_runner.h"
+#include "session_fixture.h"
 
 namespace annex {
 namespace {
@@ -123,34 +124,8 @@ TEST(FaultInjection, EachFaultAndWhatTheMonitorSays) {
 
 // ---- The session ----------------------------------------------------------------------
 
-SyntheticScene three_props(std::uint64_t seed) {
-  SyntheticSceneParams p;
-  p.object_count = 3;
-  p.kinds = {ShapeKind::cylinder, ShapeKind::sphere, ShapeKind::box};
-  for (p.seed = seed; p.seed < seed + 200; ++p.seed) {
-    Result<SyntheticScene> s = generate_scene(p);
-    if (!s) continue;
-    const auto& o = s->objects;
-    if (o.size() == 3 && o[0].kind != o[1].kind && o[1].kind != o[2].kind && o[0].kind != o[2].kind)
-      return *s;
-  }
-  ADD_FAILURE() << "no scene of three different shapes";
-  return {};
-}
-
-HapticSpec spec_for(const SyntheticScene& scene) {
-  HapticSpec spec;
-  for (size_t i = 0; i < scene.objects.size(); ++i) {
-    VirtualObject v;
-    v.name = "v" + std::to_string(i);
-    Primitive p = make_primitive(scene.objects[i].kind, "body");
-    for (size_t d = 0; d < p.dimensions.size(); ++d)
-      p.dimensions[d].value_m = scene.objects[i].dimensions_m[d];
-    v.primitives.push_back(p);
-    spec.objects.push_back(v);
-  }
-  return spec;
-}
+using test::spec_for;
+using test::three_props;
 
 TEST(FaultSession, PropsAreHeldLostReleasedAndAnnexedAgain) {
   const SyntheticScene scene = three_props(51);

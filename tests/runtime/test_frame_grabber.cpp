@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "annex/runtime/pcd_io.h"
+#include "temp_dir.h"
 
 // OpenNI2's own drivers (PS1080, PSLink) leak a few bytes while initializing; under
 // ANNEX_SANITIZE LeakSanitizer would fail the OpenNI2 tests for it. This hook is how
@@ -37,34 +38,9 @@ const fs::path kRealDir = fs::path(ANNEX_SHARED_DIR) / "data" / "real";
   GTEST_SKIP() << "real scans not found at " << kRealDir.string()                        \
                << " (the ../shared data directory is not part of the repository)"
 
-// A fresh directory per test, removed afterwards.
-class TempDir {
- public:
-  explicit TempDir(const std::string& name)
-      : path_(fs::temp_directory_path() /
-              ("annex_fg_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-void write_text(const fs::path& p, const std::string& s) {
-  std::ofstream out(p, std::ios::binary);
-  out << s;
-}
-
-std::string read_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using test::read_bytes;
+using test::TempDir;
+using test::write_bytes;
 
 Frame small_frame(int w, int h, float z0) {
   Frame f;
@@ -245,9 +221,9 @@ TEST(Pcd, RejectsAFrameWhoseSizeDisagreesWithItsPoints) {
 
 TEST(Pcd, ReadsAsciiXyzOnlyAsGreyAndPackedRgbAsColour) {
   TempDir dir("ascii");
-  write_text(dir.path() / "xyz.pcd",
-             "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\n"
-             "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n0 0 1\n0.1 0 1\nnan nan nan\n");
+  write_bytes(dir.path() / "xyz.pcd",
+              "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\n"
+              "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n0 0 1\n0.1 0 1\nnan nan nan\n");
   Result<Frame> f = read_pcd(dir.path() / "xyz.pcd");
   ASSERT_TRUE(f.ok()) << f.error().format();
   EXPECT_EQ(f->height, 1);  // unorganized
@@ -263,10 +239,11 @@ TEST(Pcd, ReadsAsciiXyzOnlyAsGreyAndPackedRgbAsColour) {
   std::memcpy(&packed, &bits, 4);
   char number[64];
   std::snprintf(number, sizeof number, "%.9g", static_cast<double>(packed));
-  write_text(dir.path() / "rgb.pcd",
-             std::string("VERSION .7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\n"
-                         "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n0 0 1 ") +
-                 number + "\n");
+  write_bytes(
+      dir.path() / "rgb.pcd",
+      std::string("VERSION .7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\n"
+                  "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n0 0 1 ") +
+          number + "\n");
   f = read_pcd(dir.path() / "rgb.pcd");
   ASSERT_TRUE(f.ok()) << f.error().format();
   EXPECT_EQ(f->points[0].r, 255);
@@ -331,31 +308,31 @@ TEST(Pcd, ErrorsNameTheFileAndTheProblem) {
 
   EXPECT_FALSE(read_pcd(dir.path()).ok());
 
-  write_text(dir.path() / "garbage.pcd", "this is not a point cloud\n\x01\x02\x03");
+  write_bytes(dir.path() / "garbage.pcd", "this is not a point cloud\n\x01\x02\x03");
   f = read_pcd(dir.path() / "garbage.pcd");
   ASSERT_FALSE(f.ok());
   EXPECT_NE(f.error().format().find("garbage.pcd"), std::string::npos) << f.error().format();
 
-  write_text(dir.path() / "empty.pcd", "");
+  write_bytes(dir.path() / "empty.pcd", "");
   EXPECT_FALSE(read_pcd(dir.path() / "empty.pcd").ok());
 
-  write_text(dir.path() / "noxyz.pcd",
-             "VERSION .7\nFIELDS a b c\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT 1\n"
-             "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n1 2 3\n");
+  write_bytes(dir.path() / "noxyz.pcd",
+              "VERSION .7\nFIELDS a b c\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT 1\n"
+              "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n1 2 3\n");
   f = read_pcd(dir.path() / "noxyz.pcd");
   ASSERT_FALSE(f.ok());
   EXPECT_NE(f.error().message.find("missing field 'x'"), std::string::npos) << f.error().message;
 
-  write_text(dir.path() / "nan.pcd",
-             "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\n"
-             "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\nnan nan nan\nnan nan nan\n");
+  write_bytes(dir.path() / "nan.pcd",
+              "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\n"
+              "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\nnan nan nan\nnan nan nan\n");
   f = read_pcd(dir.path() / "nan.pcd");
   ASSERT_FALSE(f.ok());
   EXPECT_EQ(f.error().message, "all points are NaN");
 
-  write_text(dir.path() / "zero.pcd",
-             "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 0\nHEIGHT 0\n"
-             "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 0\nDATA ascii\n");
+  write_bytes(dir.path() / "zero.pcd",
+              "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 0\nHEIGHT 0\n"
+              "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 0\nDATA ascii\n");
   EXPECT_FALSE(read_pcd(dir.path() / "zero.pcd").ok());
 }
 
@@ -367,13 +344,13 @@ TEST(Pcd, TruncatedAndCorruptedBinaryFilesFailCleanly) {
   const std::size_t header = bytes.find("DATA binary\n") + 12;
   for (std::size_t cut : {std::size_t{0}, std::size_t{10}, header - 3, header, header + 1,
                           header + 100, bytes.size() - 1}) {
-    write_text(dir.path() / "cut.pcd", bytes.substr(0, cut));
+    write_bytes(dir.path() / "cut.pcd", bytes.substr(0, cut));
     const Result<Frame> r = read_pcd(dir.path() / "cut.pcd");
     EXPECT_FALSE(r.ok()) << "cut at " << cut;
   }
   std::string lying = bytes;
   lying.replace(lying.find("POINTS 1200"), 11, "POINTS 9999");
-  write_text(dir.path() / "lying.pcd", lying);
+  write_bytes(dir.path() / "lying.pcd", lying);
   EXPECT_FALSE(read_pcd(dir.path() / "lying.pcd").ok());
 }
 
@@ -388,18 +365,18 @@ TEST(Pcd, TruncatedCompressedRealScanFailsCleanly) {
   ASSERT_LE(header + 8 + compressed, bytes.size());
   for (std::size_t cut : {header, header + 4, header + 8, header + 1000, bytes.size() / 2,
                           header + 8 + compressed - 1}) {
-    write_text(dir.path() / "cut.pcd", bytes.substr(0, cut));
+    write_bytes(dir.path() / "cut.pcd", bytes.substr(0, cut));
     const Result<Frame> r = read_pcd(dir.path() / "cut.pcd");
     EXPECT_FALSE(r.ok()) << "cut at " << cut;
   }
   // Corrupt compressed sizes: an absurd uncompressed size, then garbage in the stream.
   std::string corrupt = bytes;
   for (int i = 4; i < 8; ++i) corrupt[header + i] = '\x7f';
-  write_text(dir.path() / "sizes.pcd", corrupt);
+  write_bytes(dir.path() / "sizes.pcd", corrupt);
   EXPECT_FALSE(read_pcd(dir.path() / "sizes.pcd").ok());
   corrupt = bytes;
   for (std::size_t i = header + 8; i < header + 4000; i += 7) corrupt[i] = static_cast<char>(i * 31);
-  write_text(dir.path() / "stream.pcd", corrupt);
+  write_bytes(dir.path() / "stream.pcd", corrupt);
   const Result<Frame> r = read_pcd(dir.path() / "stream.pcd");  // may decode to noise; must not crash
   if (!r.ok()) {
     EXPECT_FALSE(r.error().message.empty());
@@ -458,7 +435,7 @@ TEST(FrameGrabber, DirectoryDeliversFramesInNameOrderWithRecordedTimestamps) {
   ASSERT_TRUE(write_pcd(dir.path() / "frame_20121214T142256.068683.pcd", small_frame(2, 2, 2.0f)).ok());
   ASSERT_TRUE(write_pcd(dir.path() / "frame_20121214T142255.814212.pcd", small_frame(2, 2, 1.0f)).ok());
   ASSERT_TRUE(write_pcd(dir.path() / "frame_20121214T142256.332395.pcd", small_frame(2, 2, 3.0f)).ok());
-  write_text(dir.path() / "notes.txt", "not a frame");
+  write_bytes(dir.path() / "notes.txt", "not a frame");
   auto g = open_frame_source(dir.path().string());
   ASSERT_TRUE(g.ok()) << g.error().format();
   EXPECT_EQ((*g)->frame_count(), 3);
@@ -495,9 +472,9 @@ TEST(FrameGrabber, DirectoryWithoutTimestampsRunsAtThirtyHertz) {
 TEST(FrameGrabber, ABadFrameInADirectoryIsAnErrorNamingFrameAndFile) {
   TempDir dir("badframe");
   ASSERT_TRUE(write_pcd(dir.path() / "a.pcd", small_frame(2, 2, 1.0f)).ok());
-  write_text(dir.path() / "b.pcd",
-             "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT 1\n"
-             "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\nnan nan nan\n");
+  write_bytes(dir.path() / "b.pcd",
+              "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT 1\n"
+              "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\nnan nan nan\n");
   ASSERT_TRUE(write_pcd(dir.path() / "c.pcd", small_frame(2, 2, 3.0f)).ok());
   auto g = open_frame_source(dir.path().string());
   ASSERT_TRUE(g.ok());
@@ -544,7 +521,7 @@ TEST(FrameGrabber, FactoryRejectsBadSpecsClearly) {
   EXPECT_NE(r.error().format().find("nothing.pcd"), std::string::npos);
   r = open_frame_source((dir.path() / "nothing_at_all").string());
   EXPECT_FALSE(r.ok());
-  write_text(dir.path() / "x.txt", "hello");
+  write_bytes(dir.path() / "x.txt", "hello");
   r = open_frame_source((dir.path() / "x.txt").string());
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("unknown frame source"), std::string::npos);
@@ -571,7 +548,7 @@ TEST(FrameGrabber, OniRecordingsThatCannotBeOpenedFailWithAClearMessage) {
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("cannot open '" + missing.string() + "'"), std::string::npos)
       << r.error().format();
-  write_text(dir.path() / "garbage.oni", "not a recording");
+  write_bytes(dir.path() / "garbage.oni", "not a recording");
   r = open_frame_source((dir.path() / "garbage.oni").string());
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("cannot open '"), std::string::npos) << r.error().format();

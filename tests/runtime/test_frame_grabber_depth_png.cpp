@@ -20,33 +20,15 @@
 #include "annex/runtime/synthetic_scene.h"
 #include "cli_runner.h"
 #include "png_test_encoder.h"
+#include "temp_dir.h"
 
 namespace annex {
 namespace {
 
 namespace fs = std::filesystem;
 
-class TempDir {
- public:
-  explicit TempDir(const std::string& name)
-      : path_(fs::temp_directory_path() / ("annex_dpng_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-void write_bytes(const fs::path& p, const std::string& s) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p, std::ios::binary) << s;
-}
+using test::TempDir;
+using test::write_bytes;
 
 // A frame's depth as a 16-bit PNG with `scale` units per metre (0 where NaN).
 std::string depth_png(const Frame& f, double scale) {

@@ -230,6 +230,35 @@ TEST(HmdConfig, UnknownKeyWarnsWithSuggestion) {
   EXPECT_NE(warnings[0].message.find("did you mean 'eye_separation'"), std::string::npos);
 }
 
+TEST(HmdConfig, ManyUnknownKeysGetTenWarningsAndOneSummary) {
+  // A file that is not an hmd.conf (here 30 unknown lines, the 31st the valid 'fov')
+  // gets the first ten unknown keys one by one and the rest as one located warning.
+  std::string text = "annex-hmd 1\n";
+  for (int i = 0; i < 30; ++i) text += "  key" + std::to_string(i) + " 1\n";
+  text += "fov 50\n";
+  std::vector<Diagnostic> warnings;
+  auto hmd = parse_hmd_config(text, "many.conf", &warnings);
+  ASSERT_TRUE(hmd.ok()) << hmd.error().format();
+  ASSERT_EQ(warnings.size(), 11u);
+  for (int i = 0; i < 10; ++i) {
+    EXPECT_EQ(warnings[i].location.line, i + 2);
+    EXPECT_EQ(warnings[i].location.column, 3);
+    EXPECT_NE(warnings[i].message.find("unknown key 'key" + std::to_string(i) + "' ignored"),
+              std::string::npos)
+        << warnings[i].message;
+  }
+  EXPECT_EQ(warnings[10].location, (Location{"many.conf", 12, 3}));
+  EXPECT_EQ(warnings[10].message, "20 more unknown keys ignored, from here to line 31");
+  EXPECT_GT(hmd->left.fy, 0.0);  // the known key after them is still read
+
+  // Exactly ten: no summary.
+  std::string ten = "annex-hmd 1\n";
+  for (int i = 0; i < 10; ++i) ten += "k" + std::to_string(i) + " 1\n";
+  warnings.clear();
+  ASSERT_TRUE(parse_hmd_config(ten, "ten.conf", &warnings).ok());
+  EXPECT_EQ(warnings.size(), 10u);
+}
+
 TEST(HmdConfig, MutatedInputNeverCrashesAndErrorsPointIntoTheText) {
   // Deterministic byte-level mutations of a valid config (a small in-test fuzzer;
   // the sanitizer build catches memory errors).

@@ -8,33 +8,13 @@
 #include "annex/runtime/annex_session.h"
 #include "annex/runtime/params_validation.h"
 #include "annex/runtime/synthetic_scene.h"
+#include "session_fixture.h"
 
 namespace annex {
 namespace {
 
-SyntheticScene make_scene(std::uint64_t seed) {
-  SyntheticSceneParams p;
-  p.seed = seed;
-  p.object_count = 3;
-  p.kinds = {ShapeKind::cylinder, ShapeKind::sphere, ShapeKind::box};
-  Result<SyntheticScene> s = generate_scene(p);
-  if (!s) ADD_FAILURE() << s.error().format();
-  return s ? *s : SyntheticScene{};
-}
-
-HapticSpec spec_for(const SyntheticScene& scene) {
-  HapticSpec spec;
-  for (size_t i = 0; i < scene.objects.size(); ++i) {
-    VirtualObject v;
-    v.name = "v" + std::to_string(i);
-    Primitive p = make_primitive(scene.objects[i].kind, "body");
-    for (size_t d = 0; d < p.dimensions.size(); ++d)
-      p.dimensions[d].value_m = scene.objects[i].dimensions_m[d];
-    v.primitives.push_back(p);
-    spec.objects.push_back(v);
-  }
-  return spec;
-}
+using test::make_scene;
+using test::spec_for;
 
 // Frame 0's scan applies at frame 1 (waited for here, so the test does not depend on
 // timing) with the matches a same-frame session makes at frame 0; later scans start

@@ -16,6 +16,7 @@
 #include "annex/runtime/pcd_io.h"
 #include "annex/runtime/synthetic_scene.h"
 #include "cli_runner.h"
+#include "session_fixture.h"
 #include "tracking_test_util.h"
 
 namespace annex {
@@ -23,30 +24,8 @@ namespace {
 
 using test::median;
 
-SyntheticScene make_scene(std::uint64_t seed, std::vector<ShapeKind> kinds, int objects) {
-  SyntheticSceneParams p;
-  p.seed = seed;
-  p.object_count = objects;
-  p.kinds = std::move(kinds);
-  Result<SyntheticScene> s = generate_scene(p);
-  if (!s) ADD_FAILURE() << s.error().format();
-  return s ? *s : SyntheticScene{};
-}
-
-// One virtual object per synthetic object, of its shape and size ("v0", "v1", ...).
-HapticSpec spec_for(const SyntheticScene& scene) {
-  HapticSpec spec;
-  for (size_t i = 0; i < scene.objects.size(); ++i) {
-    VirtualObject v;
-    v.name = "v" + std::to_string(i);
-    Primitive p = make_primitive(scene.objects[i].kind, "body");
-    for (size_t d = 0; d < p.dimensions.size(); ++d)
-      p.dimensions[d].value_m = scene.objects[i].dimensions_m[d];
-    v.primitives.push_back(p);
-    spec.objects.push_back(v);
-  }
-  return spec;
-}
+using test::make_scene;
+using test::spec_for;
 
 // The synthetic object a track sits on at frame k: the nearest true centre.
 int nearest_truth(const SyntheticScene& scene, int k, Vec3 p) {

@@ -48,6 +48,10 @@ class EditorDocument {
   // Bumped by every change of the spec (caches key on it).
   std::uint64_t revision() const { return revision_; }
   const std::vector<std::string>& warnings() const { return warnings_; }
+  // What open and save did to files other than the spec, for the editor's log: each
+  // stale temporary file of the spec they removed (left by a save that was killed;
+  // see remove_stale_temporaries). Returns the lines once and forgets them.
+  std::vector<std::string> take_log();
 
   // The mesh of a virtual object scaled by its model_scale (in metres of the scene,
   // like its primitives), or null when it has none or it failed to load.
@@ -89,6 +93,7 @@ class EditorDocument {
   Status apply_edit(const Command& command);
   void mark_changed() { ++revision_; }
   void load_meshes();
+  void remove_stale_temporaries_of(const std::filesystem::path& spec_path);
 
   HapticSpec spec_;
   HapticSpec saved_;
@@ -101,6 +106,7 @@ class EditorDocument {
   // mesh_for's scaled copies, by absolute path and scale.
   mutable std::map<std::pair<std::string, double>, std::shared_ptr<const MeshData>> scaled_;
   std::vector<std::string> warnings_;
+  std::vector<std::string> log_;
 };
 
 // Per-user folder for untitled autosaves and the recent-files list:
