@@ -30,6 +30,14 @@
 
 namespace {
 
+// The benchmarks time and score the objects: no flat surfaces for virtual panels (the
+// PCL reference pipeline finds none either).
+annex::ScanParams objects_only() {
+  annex::ScanParams p;
+  p.plane_candidates = false;
+  return p;
+}
+
 using namespace annex;
 using Clock = std::chrono::steady_clock;
 
@@ -78,7 +86,8 @@ void time_pipeline(const char* name, const Frame& frame, int repeat, Run run) {
 
 void speed(const Frame& frame, const char* label, int repeat, bool pcl) {
   std::printf("speed on %s (%dx%d):\n", label, frame.width, frame.height);
-  time_pipeline("annex", frame, repeat, [](const Frame& f) { return scan_frame(f); });
+  time_pipeline("annex", frame, repeat,
+                [](const Frame& f) { return scan_frame(f, objects_only()); });
   if (pcl)
     time_pipeline("pcl-paper", frame, std::max(3, repeat / 10),
                   [](const Frame& f) { return scan_frame_pcl_reference(f); });
@@ -167,7 +176,7 @@ void accuracy_and_ransac(int scenes, int cgal_scenes) {
   for (int seed = 1; seed <= scenes; ++seed) {
     const SyntheticFrame f = synthetic(1000 + seed);
     const auto t0 = Clock::now();
-    const Result<ScanResult> scan = scan_frame(f.frame);
+    const Result<ScanResult> scan = scan_frame(f.frame, objects_only());
     scan_ms.push_back(ms_since(t0));
     if (!scan) {
       ours.objects += static_cast<int>(f.truth.objects.size());
@@ -240,7 +249,7 @@ void world_set(int scenes, bool verbose, const std::string& png_dir) {
     }
     const SyntheticFrame f = render_scene(*scene);
     const auto t0 = Clock::now();
-    const Result<ScanResult> scan = scan_frame(f.frame);
+    const Result<ScanResult> scan = scan_frame(f.frame, objects_only());
     scan_ms.push_back(ms_since(t0));
     ++scans;
     if (!scan) ++failures;
@@ -374,7 +383,7 @@ void world_set(int scenes, bool verbose, const std::string& png_dir) {
 }
 
 void real_clusters(const Frame& frame) {
-  const Result<ScanResult> scan = scan_frame(frame);
+  const Result<ScanResult> scan = scan_frame(frame, objects_only());
   if (!scan) return;
   std::printf("real milk_cartoon clusters, ours vs CGAL Efficient RANSAC (3 seeds):\n");
   for (size_t k = 0; k < scan->clusters.size(); ++k) {
