@@ -163,6 +163,7 @@ int main(int argc, char** argv) {
     }
   }
   ScanParams params;
+  params.plane_candidates = false;  // objects are scored; a config file may say otherwise
   if (config) {
     Result<ScanParams> p = read_scan_config_file(*config);
     if (!p) {

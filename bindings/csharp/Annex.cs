@@ -110,6 +110,8 @@ namespace Annex
     public sealed class PhysicalObject
     {
         public string Id;
+        /// <summary>The id of the object it stands on; "" on the support itself.</summary>
+        public string OnObject = "";
         public int PointCount;
         public double Fit;
         public List<PhysicalPrimitive> Primitives = new List<PhysicalPrimitive>();
@@ -204,6 +206,7 @@ namespace Annex
         [DllImport(Lib)] internal static extern void annex_spec_destroy(IntPtr spec);
         [DllImport(Lib)] internal static extern UIntPtr annex_spec_object_count(IntPtr spec);
         [DllImport(Lib)] internal static extern IntPtr annex_spec_object_name(IntPtr spec, UIntPtr i);
+        [DllImport(Lib)] internal static extern double annex_spec_object_model_scale(IntPtr spec, UIntPtr i);
 
         [DllImport(Lib)] internal static extern Status annex_frame_from_points(float[] xyz, int w, int h, byte[] rgb, out IntPtr frame, out IntPtr e);
         [DllImport(Lib)] internal static extern Status annex_frame_from_depth(ushort[] depth, int w, int h, ref Intrinsics k, double scale, byte[] rgb, out IntPtr frame, out IntPtr e);
@@ -219,6 +222,7 @@ namespace Annex
         [DllImport(Lib)] internal static extern void annex_scene_destroy(IntPtr scene);
         [DllImport(Lib)] internal static extern UIntPtr annex_scene_object_count(IntPtr scene);
         [DllImport(Lib)] internal static extern Status annex_scene_object(IntPtr scene, UIntPtr i, out PhysObject o, out IntPtr e);
+        [DllImport(Lib)] internal static extern IntPtr annex_scene_object_on(IntPtr scene, UIntPtr i);
         [DllImport(Lib)] internal static extern Status annex_scene_primitive(IntPtr scene, UIntPtr i, UIntPtr p, out Primitive o, out IntPtr e);
 
         [DllImport(Lib)] internal static extern Status annex_match_objects(IntPtr spec, IntPtr scene, out IntPtr match, out IntPtr e);
@@ -329,6 +333,18 @@ namespace Annex
                 return names;
             }
         }
+
+        /// <summary>Metres per mesh unit of each virtual object (spec order; `model_scale`).</summary>
+        public double[] ModelScales
+        {
+            get
+            {
+                int n = (int)Native.annex_spec_object_count(Live);
+                var scales = new double[n];
+                for (int i = 0; i < n; ++i) scales[i] = Native.annex_spec_object_model_scale(Ptr, (UIntPtr)i);
+                return scales;
+            }
+        }
     }
 
     /// <summary>One depth frame, copied into the library.</summary>
@@ -423,7 +439,7 @@ namespace Annex
             for (int i = 0; i < n; ++i)
             {
                 Native.Check(Native.annex_scene_object(scene, (UIntPtr)i, out Native.PhysObject o, out IntPtr e), e);
-                var obj = new PhysicalObject { Id = Native.Str(o.Id), PointCount = o.PointCount, Fit = o.Fit };
+                var obj = new PhysicalObject { Id = Native.Str(o.Id), OnObject = Native.Str(Native.annex_scene_object_on(scene, (UIntPtr)i)) ?? "", PointCount = o.PointCount, Fit = o.Fit };
                 for (int j = 0; j < o.PrimitiveCount; ++j)
                 {
                     Native.Check(Native.annex_scene_primitive(scene, (UIntPtr)i, (UIntPtr)j, out Native.Primitive p, out e), e);

@@ -170,6 +170,8 @@ PYBIND11_MODULE(annex, m) {
       .def_readonly("primitives", &annex::PhysicalObject::primitives)
       .def_readonly("point_count", &annex::PhysicalObject::point_count)
       .def_readonly("fit", &annex::PhysicalObject::fit)
+      // The id of the object it stands on ("" on the support itself).
+      .def_readonly("on_object", &annex::PhysicalObject::on_object)
       // The salient primitive's shape, dimensions (metres) and centre.
       .def_property_readonly("shape", [](const annex::PhysicalObject& o) {
         return o.primitives.empty() ? std::string("unknown")
@@ -193,6 +195,12 @@ PYBIND11_MODULE(annex, m) {
         std::vector<std::string> names;
         for (const annex::VirtualObject& v : s.objects) names.push_back(v.name);
         return names;
+      })
+      // Metres per mesh unit of each virtual object (spec order; the `model_scale` key).
+      .def_property_readonly("model_scales", [](const annex::HapticSpec& s) {
+        std::vector<double> scales;
+        for (const annex::VirtualObject& v : s.objects) scales.push_back(v.model_scale);
+        return scales;
       })
       .def("__len__", [](const annex::HapticSpec& s) { return s.objects.size(); })
       .def("__str__", [](const annex::HapticSpec& s) { return annex::write_haptic(s); });

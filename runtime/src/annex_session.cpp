@@ -79,6 +79,45 @@ double distance_to(const PhysicalObject& o, Vec3 p) {
   return best;
 }
 
+bool has_plane(const HapticSpec& spec) {
+  for (const VirtualObject& v : spec.objects)
+    for (const Primitive& p : v.primitives)
+      if (v.annexable && p.kind == ShapeKind::plane) return true;
+  return false;
+}
+
+bool is_surface(const AnnexedObject& o) { return o.physical.kind == ShapeKind::plane; }
+
+// `p3.top` -> {"p3", ".top"}; a support's `s1.free` -> {"s1", ".free"}.
+std::pair<std::string, std::string> split_surface_id(const std::string& id) {
+  const size_t dot_at = id.rfind('.');
+  if (dot_at == std::string::npos) return {id, ""};
+  return {id.substr(0, dot_at), id.substr(dot_at)};
+}
+
+// Where an annexed surface lies now: its centre and normal in the sensor frame.
+Pose surface_pose(const AnnexedObject& o) { return compose(o.track.pose, o.primitive_in_track); }
+
+// A scanned surface is the annexed one seen again: the same kind (a free region, a top,
+// a face), on its plane (normals within 15 degrees, the centre within `band_m` of it)
+// and, for a free region, still holding the panel's centre (nothing was put there); a
+// box's face within same_prop_m of where its box carried it.
+bool same_surface(const AnnexedObject& o, const PhysicalObject& s, double band_m,
+                  double same_prop_m) {
+  if (s.primitives.empty() || split_surface_id(s.id).second != split_surface_id(o.physical_id).second)
+    return false;
+  const PhysicalPrimitive& q = s.primitives.front();
+  const Pose at = surface_pose(o);
+  const Vec3 normal = rotate(at.rotation, {0, 0, 1});
+  if (dot(normalized(q.axis), normal) < std::cos(15 * 3.14159265358979323846 / 180)) return false;
+  const Vec3 r = at.position - q.center;
+  if (o.carrier == PoseCarrier::track) return norm(r) <= same_prop_m;
+  if (std::abs(dot(r, normalized(q.axis))) > band_m) return false;
+  const Vec3 x = normalized(q.x_axis), y = cross(normalized(q.axis), x);
+  return q.dimensions_m.size() >= 2 && std::abs(dot(r, x)) <= q.dimensions_m[0] / 2 &&
+         std::abs(dot(r, y)) <= q.dimensions_m[1] / 2;
+}
+
 std::string num(double x, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", digits, x);
@@ -97,7 +136,8 @@ Affine world_from_model(const HapticSpec& spec, const AnnexedObject& object) {
   scale.m[0] = object.fit.scale.x;
   scale.m[5] = object.fit.scale.y;
   scale.m[10] = object.fit.scale.z;
-  return affine_from_pose(object.track.pose) * scale * inverse_rigid(prim.pose);
+  return affine_from_pose(compose(object.track.pose, object.primitive_in_track)) * scale *
+         inverse_rigid(prim.pose);
 }
 
 ModelPose decompose_model_transform(const Affine& a) {
@@ -151,6 +191,9 @@ AnnexSession::AnnexSession(HapticSpec spec, SessionParams params)
     : spec_(std::move(spec)), params_(std::move(params)) {
   if (Status s = validate_session_params(params_); !s)
     throw std::invalid_argument(s.error().message);
+  // Surfaces are looked for only when some virtual object can be laid on one.
+  spec_has_plane_ = has_plane(spec_);
+  if (!spec_has_plane_) params_.scan.plane_candidates = false;
   workers_ = std::make_unique<Workers>(params_);
 }
 
@@ -170,6 +213,7 @@ void AnnexSession::exclude(std::string physical_id) {
 std::vector<std::string> AnnexSession::excluded_ids() const {
   std::vector<std::string> ids;
   for (const ExcludedProp& e : excluded_) ids.push_back(e.physical_id);
+  ids.insert(ids.end(), excluded_surfaces_.begin(), excluded_surfaces_.end());
   ids.insert(ids.end(), exclude_waiting_.begin(), exclude_waiting_.end());
   return ids;
 }
@@ -180,6 +224,19 @@ void AnnexSession::apply_exclude_requests(FrameReport& report) {
   for (std::string& id : exclude_requests_) {
     const auto annexed = std::find_if(objects_.begin(), objects_.end(),
                                       [&](const AnnexedObject& o) { return o.physical_id == id; });
+    // A surface (a free region, a box's face) is excluded by its id until a scan no
+    // longer shows it.
+    if (id.find('.') != std::string::npos) {
+      if (annexed != objects_.end()) {
+        report.released.push_back(annexed->virtual_name);
+        objects_.erase(annexed);
+      }
+      report.excluded.push_back(id);
+      if (std::find(excluded_surfaces_.begin(), excluded_surfaces_.end(), id) ==
+          excluded_surfaces_.end())
+        excluded_surfaces_.push_back(std::move(id));
+      continue;
+    }
     if (annexed != objects_.end()) {
       report.released.push_back(annexed->virtual_name);
       report.excluded.push_back(id);
@@ -202,6 +259,54 @@ void AnnexSession::wait_for_scan() {
 
 bool AnnexSession::scan_in_flight() const {
   return workers_->scanner && workers_->scanner->busy();
+}
+
+// A virtual panel on a scanned surface: a support's free region stays where it is in
+// the room; a box's face rides on a track of its box (the box's cluster as the model),
+// the face's frame fixed in the box's.
+std::optional<AnnexedObject> AnnexSession::annex_surface(int virtual_index, const Primitive& vp,
+                                                         int virtual_primitive, double vote,
+                                                         const PhysicalScene& scene, size_t j,
+                                                         size_t object_count,
+                                                         const ScanResult& scan,
+                                                         int frame_index) const {
+  const PhysicalObject& s = scene.objects[j];
+  if (s.primitives.empty() || s.primitives.front().kind != ShapeKind::plane) return std::nullopt;
+  AnnexedObject a;
+  a.virtual_index = virtual_index;
+  a.virtual_name = spec_.objects[static_cast<size_t>(virtual_index)].name;
+  a.physical_id = s.id;
+  a.virtual_primitive = virtual_primitive;
+  a.physical = s.primitives.front();
+  a.vote = vote;
+  a.matched_frame = frame_index;
+  a.fit = fit_to_prop(vp, a.physical);
+  const Pose plane{a.physical.center, plane_frame(a.physical, box_partners(vp, a.physical)[0] == 1)};
+  const auto [owner, kind] = split_surface_id(s.id);
+  if (kind == ".free") {
+    a.carrier = PoseCarrier::room;
+    a.track.pose = plane;
+    a.track.confidence = s.fit;
+    return a;
+  }
+  // The box the face belongs to.
+  for (size_t k = 0; k < object_count && k < scan.clusters.size(); ++k) {
+    const PhysicalObject& box = scene.objects[k];
+    if (box.id != owner || box.primitives.empty() || scan.clusters[k].shape.primitives.empty())
+      continue;
+    const PhysicalPrimitive& bp = box.primitives.front();
+    const Vec3 z = normalized(bp.axis);
+    Vec3 x = scan.clusters[k].shape.primitives.front().x_axis;
+    x = x - z * dot(x, z);
+    if (norm(x) < 1e-6) x = rotate(rotation_from_z(z), {1, 0, 0});
+    x = normalized(x);
+    const Pose box_pose{bp.center, quat_from_axes(x, cross(z, x), z)};
+    a.track = start_track(bp.kind, scan.clusters[k].points, box_pose, params_.model_points);
+    a.track.confidence = s.fit;
+    a.primitive_in_track = compose(inverse(box_pose), plane);
+    return a;
+  }
+  return std::nullopt;
 }
 
 FrameReport AnnexSession::process(const Frame& frame) { return process(frame, frame.index); }
@@ -233,6 +338,9 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
     report.camera_motion = m.motion;
     camera_motion_ = m.motion;
     for (SupportSurface& sp : supports_) sp.plane = transform_plane(sp.plane, m.motion);
+    // A support's free region stays in the room: the camera's motion carries it.
+    for (AnnexedObject& o : objects_)
+      if (o.carrier == PoseCarrier::room) o.track.pose = compose(m.motion, o.track.pose);
     for (PhysicalObject& o : last_scan_objects_)
       for (PhysicalPrimitive& p : o.primitives) {
         p.center = transform_point(m.motion, p.center);
@@ -249,7 +357,19 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
   // Trackers run on the pool while this thread scans: the annexed props, then the
   // excluded ones.
   std::vector<ObjectTrack*> tracks;
-  for (AnnexedObject& o : objects_) tracks.push_back(&o.track);
+  for (AnnexedObject& o : objects_)
+    if (o.carrier == PoseCarrier::track) tracks.push_back(&o.track);
+  // Room-carried surfaces have no tracker: held while the camera's motion is unknown,
+  // lost (from a scan that found them taken) until released.
+  for (AnnexedObject& o : objects_) {
+    if (o.carrier != PoseCarrier::room) continue;
+    if (o.track.state == TrackingState::lost) {
+      ++o.track.lost_frames;
+    } else {
+      const bool moved_ok = !params_.camera_motion || report.camera_motion_ok;
+      o.track.state = moved_ok ? TrackingState::tracking : TrackingState::held;
+    }
+  }
   for (ExcludedProp& e : excluded_) tracks.push_back(&e.track);
   TrackingInput input;
   input.frame = &frame;
@@ -350,6 +470,7 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
     };
     const size_t known_props = objects_.size() + excluded_.size();
     for (size_t a = 0; a < known_props; ++a) {
+      if (a < objects_.size() && is_surface(objects_[a])) continue;  // matched on surfaces
       const Vec3 at = a < objects_.size() ? objects_[a].track.pose.position
                                           : excluded_[a - objects_.size()].track.pose.position;
       for (size_t j = 0; j < scene.objects.size(); ++j) {
@@ -372,7 +493,7 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
     here.camera_motion = {};
     for (size_t a = 0; a < objects_.size(); ++a) {
       ObjectTrack& t = objects_[a].track;
-      if (object_done[a] || t.state != TrackingState::lost) continue;
+      if (object_done[a] || t.state != TrackingState::lost || is_surface(objects_[a])) continue;
       std::vector<std::pair<double, size_t>> near;
       for (size_t j = 0; j < scene.objects.size(); ++j) {
         if (taken[j]) continue;
@@ -417,6 +538,51 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
       next_prop_id_ = std::max(next_prop_id_, fresh);
     }
 
+    // The scan's surfaces after its objects, named after the objects' ids in the session
+    // (`p7.top` of the prop the session calls p7); an annexed surface seen again is taken.
+    const size_t object_count = scene.objects.size();
+    if (spec_has_plane_) {
+      for (PhysicalObject s : scan.surfaces) {
+        const auto [owner, kind] = split_surface_id(s.id);
+        for (size_t j = 0; j < object_count; ++j)
+          if (scan.scene.objects[j].id == owner) s.id = scene.objects[j].id + kind;
+        // The faces of an excluded prop, and excluded surfaces, are not voted on.
+        const bool excluded =
+            std::find(excluded_surfaces_.begin(), excluded_surfaces_.end(), s.id) !=
+                excluded_surfaces_.end() ||
+            std::any_of(excluded_.begin(), excluded_.end(), [&](const ExcludedProp& e) {
+              return e.physical_id == split_surface_id(s.id).first;
+            });
+        scene.objects.push_back(std::move(s));
+        taken.push_back(excluded);
+      }
+      std::erase_if(excluded_surfaces_, [&](const std::string& id) {
+        return std::none_of(scene.objects.begin() + static_cast<std::ptrdiff_t>(object_count),
+                            scene.objects.end(),
+                            [&](const PhysicalObject& s) { return s.id == id; });
+      });
+      const double band = 2 * params_.scan.plane_distance_m;
+      for (AnnexedObject& o : objects_) {
+        if (!is_surface(o)) continue;
+        bool found = false;
+        for (size_t j = object_count; j < scene.objects.size() && !found; ++j) {
+          if (taken[j] || !same_surface(o, scene.objects[j], band, params_.same_prop_m)) continue;
+          taken[j] = found = true;
+          scene.objects[j].id = o.physical_id;
+        }
+        // A free region that something now stands on is lost; the release frees the
+        // panel to vote for the free region the scan found instead.
+        if (o.carrier == PoseCarrier::room) {
+          if (found && o.track.state == TrackingState::lost) o.track.state = TrackingState::tracking;
+          if (found) o.track.lost_frames = 0;
+          if (!found && o.track.state != TrackingState::lost) {
+            o.track.state = TrackingState::lost;
+            o.track.confidence = 0;
+          }
+        }
+      }
+    }
+
     bool anyone_votes = false;
     for (size_t v = 0; v < spec_.objects.size(); ++v)
       anyone_votes = anyone_votes || (spec_.objects[v].annexable && !matched[v]);
@@ -432,9 +598,15 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
         if (e.virtual_primitive < 0 || e.physical_primitive < 0) continue;
         const PhysicalObject& po = scene.objects[j];
         const auto pp = static_cast<size_t>(e.physical_primitive);
-        if (pp >= po.primitives.size() || j >= scan.clusters.size()) continue;
         const VirtualObject& v = spec_.objects[static_cast<size_t>(vi)];
         const Primitive& vp = v.primitives[static_cast<size_t>(e.virtual_primitive)];
+        if (j >= object_count) {
+          if (auto a = annex_surface(vi, vp, e.virtual_primitive, m.vote, scene, j, object_count,
+                                     scan, frame_index))
+            objects_.push_back(std::move(*a));
+          continue;
+        }
+        if (pp >= po.primitives.size() || j >= scan.clusters.size()) continue;
         const std::vector<ShapeFit>& fits = scan.clusters[j].shape.primitives;
         const Vec3 x_axis = pp < fits.size() ? fits[pp].x_axis : Vec3{1, 0, 0};
         AnnexedObject a;

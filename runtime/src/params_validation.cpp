@@ -85,6 +85,13 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.range("shape.min_secondary_share", p.shape.min_secondary_share, 0, 1);
   c.non_negative("shape.side_shape_penalty", p.shape.side_shape_penalty);
   c.at_least("shape.max_fit_points", p.shape.max_fit_points, 10);
+  c.positive("planes.min_side_m", p.planes.min_side_m);
+  c.non_negative("planes.clearance_m", p.planes.clearance_m);
+  c.positive("planes.cell_m", p.planes.cell_m);
+  c.range("planes.max_face_tilt_deg", p.planes.max_face_tilt_deg, 0, 90);
+  c.range("planes.min_face_share", p.planes.min_face_share, 0, 1);
+  c.range("planes.slab_ratio", p.planes.slab_ratio, 0, 1);
+  c.positive("planes.reach_m", p.planes.reach_m);
   c.at_least("threads", p.threads, 1);
   return c.status();
 }

@@ -95,8 +95,11 @@ std::optional<PhysicalObject> box_face(const ScanCluster& sc, const PhysicalObje
 }
 
 // Largest all-true axis-aligned rectangle of a grid (rows x cols), by the histogram
-// method: {row0, col0, rows, cols}, rows = 0 when none.
-std::array<int, 4> largest_rectangle(const std::vector<char>& cells, int rows, int cols) {
+// method: {row0, col0, rows, cols}, rows = 0 when none. Of equally large ones, the one
+// whose centre has the smallest `cost` (row, col of the centre doubled).
+template <typename Cost>
+std::array<int, 4> largest_rectangle(const std::vector<char>& cells, int rows, int cols,
+                                     Cost cost) {
   std::vector<int> height(static_cast<size_t>(cols), 0);
   std::array<int, 4> best{0, 0, 0, 0};
   long best_area = 0;
@@ -112,9 +115,13 @@ std::array<int, 4> largest_rectangle(const std::vector<char>& cells, int rows, i
         stack.pop_back();
         const int left = stack.empty() ? 0 : stack.back() + 1;
         const long area = static_cast<long>(height[top]) * (c - left);
-        if (area > best_area) {
+        const std::array<int, 4> here{r - height[top] + 1, left, height[top], c - left};
+        if (area > best_area ||
+            (area == best_area && area > 0 &&
+             cost(2 * here[0] + here[2], 2 * here[1] + here[3]) <
+                 cost(2 * best[0] + best[2], 2 * best[1] + best[3]))) {
           best_area = area;
-          best = {r - height[top] + 1, left, height[top], c - left};
+          best = here;
         }
       }
       stack.push_back(c);
@@ -270,9 +277,29 @@ std::optional<PhysicalObject> free_region(const Frame& frame, const ScanSupport&
   const std::vector<char> near_object = dilate(blocked, crows, ccols, clear);
   std::vector<char> free_cells(seen.size(), 0);
   for (size_t i = 0; i < seen.size(); ++i) free_cells[i] = seen[i] && !near_object[i];
-  auto [r0, c0, nr, nc] = largest_rectangle(free_cells, crows, ccols);
-  r0 += r_begin;
-  c0 += c_begin;
+  // Where the hand reaches: the camera (the user's head) stands over the support's
+  // near edge; distances on the plane from the camera's foot (in cells of the cut
+  // grid), the nearest free cell the edge the hand arrives at.
+  const Vec3 foot = n * -d;  // the camera at the origin, projected onto the plane
+  const double fe = dot(foot - origin, e) / cell - c_begin;
+  const double fw = dot(foot - origin, w) / cell - r_begin;
+  auto reach_cells = [&](double row2, double col2) {  // centre doubled, in cells
+    return std::hypot(col2 / 2 - fe, row2 / 2 - fw);
+  };
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int r = 0; r < crows; ++r)
+    for (int c = 0; c < ccols; ++c)
+      if (free_cells[static_cast<size_t>(r) * ccols + c])
+        nearest = std::min(nearest, reach_cells(2 * r + 1, 2 * c + 1));
+  std::vector<char> in_reach = free_cells;
+  for (int r = 0; r < crows; ++r)
+    for (int c = 0; c < ccols; ++c)
+      if (reach_cells(2 * r + 1, 2 * c + 1) > nearest + params.reach_m / cell)
+        in_reach[static_cast<size_t>(r) * ccols + c] = 0;
+  std::array<int, 4> rect = largest_rectangle(in_reach, crows, ccols, reach_cells);
+  if (std::min(rect[2], rect[3]) * cell < params.min_side_m)
+    rect = largest_rectangle(free_cells, crows, ccols, reach_cells);
+  const int r0 = rect[0] + r_begin, c0 = rect[1] + c_begin, nr = rect[2], nc = rect[3];
   const double size_e = nc * cell, size_w = nr * cell;
   if (nr == 0 || std::min(size_e, size_w) < params.min_side_m) return std::nullopt;
   const Vec3 center = origin + e * ((c0 + nc / 2.0) * cell) + w * ((r0 + nr / 2.0) * cell);

@@ -1382,7 +1382,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   }
   result.stages.push_back({"shapes", ms_since(t0)});
   order_and_name_objects(result);
-  result.surfaces = find_plane_candidates(f, result, params);
+  if (params.plane_candidates) result.surfaces = find_plane_candidates(f, result, params, params.planes);
   return result;
 }
 

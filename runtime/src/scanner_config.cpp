@@ -98,6 +98,14 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"segment_noise_factor", Kind::non_negative, &p.segment.noise_factor},
       {"segment_min_object_points", Kind::whole, nullptr, &p.segment.min_object_points, 0},
       {"segment_min_object_share", Kind::unit_share, &p.segment.min_object_share},
+      {"plane_candidates", Kind::flag, nullptr, nullptr, 0, &p.plane_candidates},
+      {"plane_min_side_m", Kind::positive, &p.planes.min_side_m},
+      {"plane_clearance_m", Kind::non_negative, &p.planes.clearance_m},
+      {"plane_cell_m", Kind::positive, &p.planes.cell_m},
+      {"plane_max_face_tilt_deg", Kind::angle, &p.planes.max_face_tilt_deg},
+      {"plane_min_face_share", Kind::unit_share, &p.planes.min_face_share},
+      {"plane_slab_ratio", Kind::unit_share, &p.planes.slab_ratio},
+      {"plane_reach_m", Kind::positive, &p.planes.reach_m},
   };
   auto error = [&](std::string message, int line, int column) {
     return Error{std::move(message), {std::string(origin), line, column}};

@@ -152,22 +152,40 @@ annex_status check_size(annex_error** error, const char* function, int width, in
   return ANNEX_OK;
 }
 
+// The two-call array protocol (annex.h): `n` items of `what`, written by write(out) when
+// the buffer holds them; a sizing call (capacity 0, no buffer) only sets *count.
+template <typename T, typename Write>
+annex_status two_call_copy(size_t n, T* out, size_t capacity, size_t* count, annex_error** error,
+                           const char* function, const char* what, Write write) {
+  if (!count) return null_argument(error, function, "count");
+  *count = n;
+  if (capacity < n) {
+    if (capacity == 0 && !out) return ok(error);  // the sizing call
+    return fail(error, ANNEX_BUFFER_TOO_SMALL,
+                std::string(function) + ": " + std::to_string(n) + " " + what +
+                    ", the buffer holds " + std::to_string(capacity));
+  }
+  if (n > 0) {
+    if (!out) return null_argument(error, function, "the buffer");
+    write(out);
+  }
+  return ok(error);
+}
+
 template <typename T>
 annex_status copy_out(const std::vector<T>& items, T* out, size_t capacity, size_t* count,
                       annex_error** error, const char* function) {
-  if (!count) return null_argument(error, function, "count");
-  *count = items.size();
-  if (capacity < items.size()) {
-    if (capacity == 0 && !out) return ok(error);  // the sizing call
-    return fail(error, ANNEX_BUFFER_TOO_SMALL,
-                std::string(function) + ": " + std::to_string(items.size()) +
-                    " items, the buffer holds " + std::to_string(capacity));
-  }
-  if (!items.empty()) {
-    if (!out) return null_argument(error, function, "the buffer");
-    std::copy(items.begin(), items.end(), out);
-  }
-  return ok(error);
+  return two_call_copy(items.size(), out, capacity, count, error, function, "items",
+                       [&](T* to) { std::copy(items.begin(), items.end(), to); });
+}
+
+// `index` of `size` items (of the `what` named in the message), else the error.
+annex_status check_index(annex_error** error, const char* function, size_t index, size_t size,
+                         const char* what) {
+  if (index < size) return ANNEX_OK;
+  return fail(error, ANNEX_INVALID_ARGUMENT,
+              std::string(function) + ": index " + std::to_string(index) + " of " +
+                  std::to_string(size) + " " + what);
 }
 
 void copy3(const annex::Vec3& v, double out[3]) {
@@ -308,6 +326,9 @@ size_t annex_spec_object_count(const annex_spec* s) { return s ? s->spec.objects
 const char* annex_spec_object_name(const annex_spec* s, size_t i) {
   return s && i < s->spec.objects.size() ? s->spec.objects[i].name.c_str() : nullptr;
 }
+double annex_spec_object_model_scale(const annex_spec* s, size_t i) {
+  return s && i < s->spec.objects.size() ? s->spec.objects[i].model_scale : 0.0;
+}
 size_t annex_spec_warning_count(const annex_spec* s) { return s ? s->warnings.size() : 0; }
 const char* annex_spec_warning(const annex_spec* s, size_t i) {
   return s && i < s->warnings.size() ? s->warnings[i].c_str() : nullptr;
@@ -422,21 +443,15 @@ annex_status annex_frame_points(const annex_frame* f, float* xyz, size_t capacit
                                 annex_error** error) {
   return guarded(error, [&] {
     if (!f) return null_argument(error, "annex_frame_points", "frame");
-    if (!count) return null_argument(error, "annex_frame_points", "count");
-    const size_t n = f->frame.points.size() * 3;
-    *count = n;
-    if (capacity == 0 && !xyz) return ok(error);
-    if (capacity < n)
-      return fail(error, ANNEX_BUFFER_TOO_SMALL,
-                  "annex_frame_points: " + std::to_string(n) + " floats, the buffer holds " +
-                      std::to_string(capacity));
-    if (!xyz) return null_argument(error, "annex_frame_points", "xyz");
-    for (size_t i = 0; i < f->frame.points.size(); ++i) {
-      xyz[3 * i] = f->frame.points[i].x;
-      xyz[3 * i + 1] = f->frame.points[i].y;
-      xyz[3 * i + 2] = f->frame.points[i].z;
-    }
-    return ok(error);
+    const std::vector<annex::PointXYZRGB>& points = f->frame.points;
+    return two_call_copy(points.size() * 3, xyz, capacity, count, error, "annex_frame_points",
+                         "floats", [&](float* to) {
+                           for (size_t i = 0; i < points.size(); ++i) {
+                             to[3 * i] = points[i].x;
+                             to[3 * i + 1] = points[i].y;
+                             to[3 * i + 2] = points[i].z;
+                           }
+                         });
   });
 }
 
@@ -515,10 +530,9 @@ annex_status annex_scene_object(const annex_scene* s, size_t index, annex_physic
   return guarded(error, [&] {
     if (!s) return null_argument(error, "annex_scene_object", "scene");
     if (!out) return null_argument(error, "annex_scene_object", "out");
-    if (index >= s->scene.objects.size())
-      return fail(error, ANNEX_INVALID_ARGUMENT,
-                  "annex_scene_object: index " + std::to_string(index) + " of " +
-                      std::to_string(s->scene.objects.size()) + " objects");
+    if (annex_status st =
+            check_index(error, "annex_scene_object", index, s->scene.objects.size(), "objects"))
+      return st;
     const annex::PhysicalObject& o = s->scene.objects[index];
     *out = annex_physical_object{o.id.c_str(), static_cast<int>(o.primitives.size()),
                                  o.point_count, o.fit};
@@ -554,6 +568,11 @@ annex_status annex_scene_primitive(const annex_scene* s, size_t object, size_t p
   });
 }
 
+const char* annex_scene_object_on(const annex_scene* s, size_t index) {
+  return s && index < s->scene.objects.size() ? s->scene.objects[index].on_object.c_str()
+                                              : nullptr;
+}
+
 int annex_scene_support(const annex_scene* s, double normal[3], double* d) {
   if (!s || !s->scene.support) return 0;
   if (normal) copy3(s->scene.support->normal, normal);
@@ -581,10 +600,9 @@ annex_status annex_match_entry_at(const annex_match* m, size_t index, annex_matc
   return guarded(error, [&] {
     if (!m) return null_argument(error, "annex_match_entry_at", "match");
     if (!out) return null_argument(error, "annex_match_entry_at", "out");
-    if (index >= m->result.matches.size())
-      return fail(error, ANNEX_INVALID_ARGUMENT,
-                  "annex_match_entry_at: index " + std::to_string(index) + " of " +
-                      std::to_string(m->result.matches.size()) + " entries");
+    if (annex_status st = check_index(error, "annex_match_entry_at", index,
+                                      m->result.matches.size(), "entries"))
+      return st;
     const annex::MatchEntry& e = m->result.matches[index];
     const auto vi = static_cast<size_t>(e.virtual_index);
     out->virtual_name = m->spec.objects.at(vi).name.c_str();

@@ -251,6 +251,61 @@ TEST_F(AuthorApp, LimitsPreviewRankModeAndBench) {
   EXPECT_GT(distinct_colors(img, 500, 200, 1100, 500), 100u);
 }
 
+// Pixels that differ between two screenshots of one size, in a region.
+std::size_t changed_pixels(const Image& a, const Image& b, int x0, int y0, int x1, int y1) {
+  std::size_t n = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const std::size_t i = (static_cast<std::size_t>(y) * a.width + x) * 3;
+      n += a.rgb[i] != b.rgb[i] || a.rgb[i + 1] != b.rgb[i + 1] || a.rgb[i + 2] != b.rgb[i + 2];
+    }
+  return n;
+}
+
+// Issue 14's editor commands through the whole app: a plane fitted to the paddle's
+// blade, the model's units set to centimetres and then its real height, the plane
+// scaling with the mesh as one undo step each, sized by hand; the wireframe rectangle
+// shows in the viewport (a screenshot without it differs there).
+TEST_F(AuthorApp, ModelUnitsHeightAndThePlanePrimitive) {
+  const auto dir = testing::fresh_dir("units_plane");
+  const fs::path spec = dir / "paddle.haptic", shot = dir / "plane.png", bare = dir / "bare.png";
+  const std::string import = "import " + testing::sample_model("pingpong_paddle.obj") + " paddle\n";
+  const std::string view = "camera 0 0.12 0.7\nframes 2\n";
+  const RunResult r = run_script(dir, import +
+                                          "add plane face\n"
+                                          "fit plane\n"
+                                          "set model_units cm\n"
+                                          "set model_scale 0.5\n"
+                                          "undo\n"
+                                          "set model_height 0.26\n"
+                                          "set size_y 0.12\n"
+                                          "model\n" +
+                                          view + "screenshot " + shot.string() + "\nsave " +
+                                          spec.string() + "\n");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("model paddle: model_scale 1.06"), std::string::npos) << r.out;
+  auto parsed = read_haptic_file(spec);
+  ASSERT_TRUE(parsed) << parsed.error().format();
+  const VirtualObject& o = parsed->objects.at(0);
+  // 0.26 m tall from a mesh 0.245 units tall, after cm (0.01) and an undone 0.5.
+  EXPECT_NEAR(o.model_scale, 0.26 / 0.245, 1e-4);
+  ASSERT_EQ(o.primitives.size(), 1u);
+  const Primitive& face = o.primitives[0];
+  EXPECT_EQ(face.kind, ShapeKind::plane);
+  // Fitted at the mesh's 0.245 m, scaled with it to its new 0.26 m; size_y set by hand.
+  EXPECT_NEAR(face.dimensions[0].value_m, 0.26, 0.26 * 0.02);
+  EXPECT_EQ(face.dimensions[1].value_m, 0.12);
+
+  const RunResult b = run_script(dir, import + "set model_height 0.26\n" + view + "screenshot " +
+                                          bare.string() + "\n");
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  const Image with = load_png(shot), without = load_png(bare);
+  ASSERT_EQ(with.width, 1600);
+  ASSERT_EQ(without.width, 1600);
+  EXPECT_GT(distinct_colors(with, 500, 200, 1100, 500), 100u);
+  EXPECT_GT(changed_pixels(with, without, 500, 150, 1100, 750), 300u);
+}
+
 TEST_F(AuthorApp, RuntimePreviewRunsTheSavedSpec) {
   const char* runtime = std::getenv("ANNEX_RUNTIME");
   if (runtime == nullptr || !fs::exists(runtime)) GTEST_SKIP() << "annex-runtime is not built";

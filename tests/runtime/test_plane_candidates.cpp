@@ -71,7 +71,7 @@ TEST(PlaneCandidates, TheFreeRegionKeepsClearOfEveryObject) {
   const PhysicalObject* free = surface(*scan, "s1.free");
   ASSERT_NE(free, nullptr);
   const PhysicalPrimitive& p = free->primitives[0];
-  EXPECT_GT(p.dimensions_m[1], 0.2);  // the table is wide open behind the laptop
+  EXPECT_GT(p.dimensions_m[0], 0.4);  // the table is open in front of the laptop
   const Vec3 y = cross(p.axis, p.x_axis);
   int inside = 0;
   for (const ScanCluster& c : scan->clusters)
@@ -81,6 +81,32 @@ TEST(PlaneCandidates, TheFreeRegionKeepsClearOfEveryObject) {
                 std::abs(dot(r, y)) < p.dimensions_m[1] / 2 && dot(r, p.axis) < 0.6;
     }
   EXPECT_EQ(inside, 0);
+}
+
+// The free rectangle lies where the user's hand reaches: on the near part of the table,
+// in front of the objects, not on the larger open area behind them that the largest
+// rectangle anywhere finds (reach_m unbounded).
+TEST(PlaneCandidates, TheFreeRegionIsWithinReach) {
+  for (const char* name : {kLaptopFrame, "milk_cartoon_all_small_clorox.pcd"}) {
+    const auto path = kReal / name;
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << "../shared/data/real is absent";
+    Result<Frame> f = read_pcd(path);
+    ASSERT_TRUE(f.ok());
+    ScanParams unbounded;
+    unbounded.planes.reach_m = 100;
+    Result<ScanResult> near = scan_frame(*f), anywhere = scan_frame(*f, unbounded);
+    ASSERT_TRUE(near.ok() && anywhere.ok()) << name;
+    const PhysicalObject* a = surface(*near, "s1.free");
+    const PhysicalObject* b = surface(*anywhere, "s1.free");
+    ASSERT_TRUE(a && b) << name;
+    const PhysicalPrimitive& p = a->primitives[0];
+    const PhysicalPrimitive& q = b->primitives[0];
+    EXPECT_LT(norm(p.center), 0.9) << name;
+    EXPECT_GT(norm(q.center), norm(p.center) + 0.4) << name;
+    EXPECT_GE(q.dimensions_m[0] * q.dimensions_m[1], p.dimensions_m[0] * p.dimensions_m[1]);
+    // The nearest objects' points lie beyond it or beside it, never on it.
+    EXPECT_GE(std::min(p.dimensions_m[0], p.dimensions_m[1]), PlaneCandidateParams{}.min_side_m);
+  }
 }
 
 // The laptop's lid (a slab facing the camera) and the carton's top are surfaces; the
@@ -176,6 +202,56 @@ TEST(PlaneCandidates, TheFreeRectangleIsTheSeenPatchInAWideHull) {
     EXPECT_NEAR(p.center.y, d, 1e-6) << x0;
     EXPECT_GT(out[0].point_count, 0);
   }
+}
+
+// scan.conf's plane_* keys: the sample file holds the defaults, values are read, bad
+// ones are errors at their line and column, `plane_candidates 0` leaves no surfaces.
+TEST(PlaneCandidates, ScanConfigKeys) {
+  const Result<ScanParams> sample =
+      read_scan_config_file(std::filesystem::path(ANNEX_SOURCE_DIR) / "samples/config/scan.conf");
+  ASSERT_TRUE(sample.ok()) << sample.error().format();
+  const PlaneCandidateParams d;
+  const PlaneCandidateParams& s = sample->planes;
+  EXPECT_TRUE(sample->plane_candidates);
+  EXPECT_EQ(s.min_side_m, d.min_side_m);
+  EXPECT_EQ(s.clearance_m, d.clearance_m);
+  EXPECT_EQ(s.cell_m, d.cell_m);
+  EXPECT_EQ(s.reach_m, d.reach_m);
+  EXPECT_EQ(s.max_face_tilt_deg, d.max_face_tilt_deg);
+  EXPECT_EQ(s.min_face_share, d.min_face_share);
+  EXPECT_EQ(s.slab_ratio, d.slab_ratio);
+
+  const Result<ScanParams> p = parse_scan_config(
+      "plane_candidates 0\nplane_min_side_m 0.08\nplane_clearance_m 0\nplane_cell_m 0.02\n"
+      "plane_reach_m 0.7\nplane_max_face_tilt_deg 10\nplane_min_face_share 0.3\n"
+      "plane_slab_ratio 0.2\n",
+      "t.conf");
+  ASSERT_TRUE(p.ok()) << p.error().format();
+  EXPECT_FALSE(p->plane_candidates);
+  EXPECT_EQ(p->planes.min_side_m, 0.08);
+  EXPECT_EQ(p->planes.clearance_m, 0);
+  EXPECT_EQ(p->planes.cell_m, 0.02);
+  EXPECT_EQ(p->planes.reach_m, 0.7);
+  EXPECT_EQ(p->planes.max_face_tilt_deg, 10);
+  EXPECT_EQ(p->planes.min_face_share, 0.3);
+  EXPECT_EQ(p->planes.slab_ratio, 0.2);
+
+  for (const auto& [text, column] : std::vector<std::pair<std::string, int>>{
+           {"\nplane_cell_m 0\n", 14}, {"\nplane_reach_m -1\n", 15},
+           {"\nplane_min_face_share 1.5\n", 22}, {"\nplane_max_face_tilt_deg 95\n", 25}}) {
+    const Result<ScanParams> bad = parse_scan_config(text, "t.conf");
+    ASSERT_FALSE(bad.ok()) << text;
+    EXPECT_EQ(bad.error().location, (Location{"t.conf", 2, column})) << bad.error().format();
+  }
+
+  const auto path = kReal / kLaptopFrame;
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "../shared/data/real is absent";
+  Result<Frame> f = read_pcd(path);
+  ASSERT_TRUE(f.ok());
+  Result<ScanResult> off = scan_frame(*f, *p), on = scan_frame(*f);
+  ASSERT_TRUE(off.ok() && on.ok());
+  EXPECT_TRUE(off->surfaces.empty());
+  EXPECT_FALSE(on->surfaces.empty());
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 
 #include "annex/common/geometry.h"
 #include "annex/formats/haptic_format.h"
+#include "annex/formats/scene_format.h"
 #include "annex/runtime/synthetic_scene.h"
 
 namespace {
@@ -127,6 +128,101 @@ TEST(CApi, SpecsLoadWithLineAndColumnErrors) {
   EXPECT_EQ(annex_spec_load_text(nullptr, nullptr, &spec, &err), ANNEX_INVALID_ARGUMENT);
   EXPECT_NE(err.message().find("text must not be NULL"), std::string::npos);
   EXPECT_EQ(annex_spec_load_text(bad, nullptr, &spec, nullptr), ANNEX_PARSE_ERROR);
+}
+
+// Each virtual object's mesh scale, as the spec gives it (1 when it does not).
+TEST(CApi, SpecObjectsGiveTheirModelScale) {
+  Err err;
+  annex_spec* spec = nullptr;
+  ASSERT_EQ(annex_spec_load_text("annex-haptic 1\n"
+                                 "object duck\n  mesh duck.dae\n  model_scale 0.078\n"
+                                 "  primitive body sphere\n    radius 0.05\n  end\nend\n"
+                                 "object cup\n  primitive body cylinder\n    radius 0.04\n"
+                                 "    height 0.1\n  end\nend\n",
+                                 "units.haptic", &spec, &err),
+            ANNEX_OK)
+      << err.message();
+  EXPECT_DOUBLE_EQ(annex_spec_object_model_scale(spec, 0), 0.078);
+  EXPECT_DOUBLE_EQ(annex_spec_object_model_scale(spec, 1), 1.0);
+  EXPECT_EQ(annex_spec_object_model_scale(spec, 2), 0.0);  // out of range
+  EXPECT_EQ(annex_spec_object_model_scale(nullptr, 0), 0.0);
+  annex_spec_destroy(spec);
+}
+
+// A scene with a tin standing on a box: the object it stands on, "" on the support.
+TEST(CApi, SceneObjectsSayWhatTheyStandOn) {
+  annex::PhysicalScene scene;
+  scene.supports.push_back({"s1", annex::Plane{{0, -1, 0}, 0.5}, 1000});
+  scene.support = scene.supports[0].plane;
+  for (const char* id : {"p1", "p2"}) {
+    annex::PhysicalObject o;
+    o.id = id;
+    o.support_id = "s1";
+    annex::PhysicalPrimitive p;
+    p.kind = annex::ShapeKind::box;
+    p.dimensions_m = {0.2, 0.15, 0.1};
+    p.center = {0, 0.45, 1.0};
+    o.primitives.push_back(p);
+    scene.objects.push_back(o);
+  }
+  scene.objects[1].on_object = "p1";
+  const std::string path = testing::TempDir() + "/stacked.scene";
+  ASSERT_TRUE(annex::write_scene_file(path, scene).ok());
+  Err err;
+  annex_scene* loaded = nullptr;
+  ASSERT_EQ(annex_scene_load_file(path.c_str(), &loaded, &err), ANNEX_OK) << err.message();
+  ASSERT_EQ(annex_scene_object_count(loaded), 2u);
+  EXPECT_STREQ(annex_scene_object_on(loaded, 0), "");
+  EXPECT_STREQ(annex_scene_object_on(loaded, 1), "p1");
+  EXPECT_EQ(annex_scene_object_on(loaded, 2), nullptr);
+  EXPECT_EQ(annex_scene_object_on(nullptr, 0), nullptr);
+  annex_primitive prim;
+  ASSERT_EQ(annex_scene_primitive(loaded, 1, 0, &prim, &err), ANNEX_OK);
+  EXPECT_EQ(prim.shape, ANNEX_SHAPE_BOX);
+  annex_scene_destroy(loaded);
+}
+
+// A session whose spec has a virtual panel lays it on a box's top, reported with the
+// props: its pose is the face's centre, its normal the box's up.
+TEST(CApi, SessionLaysAPanelOnABoxTop) {
+  annex::SyntheticScene scene;
+  scene.camera_position = {0, -0.75, 0.7};
+  scene.objects.push_back(annex::resting_object(annex::ShapeKind::box, {0.22, 0.16, 0.08}, 0, 0));
+  Err err;
+  annex_spec* spec = nullptr;
+  ASSERT_EQ(annex_spec_load_text("annex-haptic 1\nobject keypad\n  primitive face plane\n"
+                                 "    size_x 0.22\n    size_y 0.16\n  end\nend\n",
+                                 "keypad.haptic", &spec, &err),
+            ANNEX_OK)
+      << err.message();
+  annex_session_params params;
+  annex_session_params_init(&params);
+  params.background_scan = 0;
+  annex_session* session = nullptr;
+  ASSERT_EQ(annex_session_create(spec, &params, &session, &err), ANNEX_OK) << err.message();
+  annex_spec_destroy(spec);
+  const annex::SyntheticFrame f = annex::render_scene(scene, {}, 0);
+  annex_frame* frame = frame_of(f.frame);
+  ASSERT_EQ(annex_session_push(session, frame, &err), ANNEX_OK) << err.message();
+  annex_frame_destroy(frame);
+  size_t count = 0;
+  annex_object objects[2];
+  ASSERT_EQ(annex_session_objects(session, objects, 2, &count, &err), ANNEX_OK) << err.message();
+  ASSERT_EQ(count, 1u);
+  EXPECT_STREQ(objects[0].virtual_name, "keypad");
+  EXPECT_STREQ(objects[0].physical_id, "p1.top");
+  ASSERT_TRUE(f.truth.support.has_value());
+  const annex::Vec3 up = annex::normalized(f.truth.support->normal);
+  const annex::PhysicalPrimitive& box = f.truth.objects.at(0).primitives.at(0);
+  const annex::Vec3 top = box.center + up * (box.dimensions_m[2] / 2);
+  const annex::Vec3 at{objects[0].position[0], objects[0].position[1], objects[0].position[2]};
+  EXPECT_LT(annex::norm(at - top), 0.02);
+  const annex::Quat q{objects[0].rotation[0], objects[0].rotation[1], objects[0].rotation[2],
+                      objects[0].rotation[3]};
+  EXPECT_GT(annex::dot(annex::rotate(q, {0, 0, 1}), up), 0.97);  // the panel's normal
+  EXPECT_NEAR(objects[0].scale[0], 1.0, 0.15);
+  EXPECT_NEAR(objects[0].scale[1], 1.0, 0.15);
+  annex_session_destroy(session);
 }
 
 // Scanning an organized cloud and the same scene as a depth image in millimetres and in

@@ -51,6 +51,9 @@ static class AnnexTest
         using (Spec study = Spec.Load(Path.Combine(source, "samples/specs/study.haptic")))
             Check(study.Names.Contains("champagne_bottle") && study.Names.Length == 7,
                   "study.haptic: " + string.Join(", ", study.Names));
+        using (Spec units = Spec.Parse("annex-haptic 1\nobject duck\n  mesh duck.dae\n  model_scale 0.078\n  primitive body sphere\n    radius 0.05\n  end\nend\nobject cup\n  primitive body cylinder\n    radius 0.04\n    height 0.1\n  end\nend\n", "units.haptic"))
+            Check(units.ModelScales.Length == 2 && Math.Abs(units.ModelScales[0] - 0.078) < 1e-12 && units.ModelScales[1] == 1.0,
+                  "model scales: " + string.Join(", ", units.ModelScales));
         try
         {
             Spec.Parse("annex-haptic 1\nobject cup\n  primitive body cylinder\n    priority heavy\n  end\nend\n", "cup.haptic");
@@ -82,6 +85,7 @@ static class AnnexTest
                 {
                     List<PhysicalObject> objects = scanner.Scan(frame);
                     Check(frame.Width == 640 && frame.Height == 480, "real frame is 640x480");
+                    Check(objects.All(o => o.OnObject == ""), "real frame: every prop stands on the table");
                     Check(objects.Count >= 3 && objects.Any(o => o.Shape == "box") &&
                           objects.Count(o => o.Shape == "cylinder") >= 2,
                           "real frame: " + string.Join(", ", objects.Select(o => o.Id + " " + o.Shape)));

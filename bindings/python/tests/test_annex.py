@@ -50,6 +50,7 @@ def test_scan_finds_the_three_props():
     assert by_shape["cylinder"].dims["radius"] == pytest.approx(0.056, abs=0.006)
     assert by_shape["cylinder"].dims["height"] == pytest.approx(0.193, abs=0.02)
     for o in by_shape.values():
+        assert o.on_object == ""  # each stands on the table, none on another
         assert o.center.shape == (3,)
         assert 0.3 < o.center[2] < 2.0
         assert o.primitives[0].shape == o.shape
@@ -72,6 +73,14 @@ def test_specs_read_and_errors_carry_line_and_column():
         annex.parse_spec(
             "annex-haptic 1\nobject cup\n  primitive body cylinder\n    priority heavy\n  end\nend\n",
             "cup.haptic")
+
+
+def test_spec_gives_each_objects_model_scale():
+    spec = annex.parse_spec(
+        "annex-haptic 1\nobject duck\n  mesh duck.dae\n  model_scale 0.078\n"
+        "  primitive body sphere\n    radius 0.05\n  end\nend\nobject cup\n"
+        "  primitive body cylinder\n    radius 0.04\n    height 0.1\n  end\nend\n", "units.haptic")
+    assert spec.model_scales == pytest.approx([0.078, 1.0])
 
 
 def test_match_puts_the_study_objects_on_the_props():

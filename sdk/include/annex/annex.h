@@ -115,6 +115,10 @@ ANNEX_API void annex_spec_destroy(annex_spec* spec);
 ANNEX_API size_t annex_spec_object_count(const annex_spec* spec);
 /// The name of virtual object `index` (spec order); NULL when out of range.
 ANNEX_API const char* annex_spec_object_name(const annex_spec* spec, size_t index);
+/// Metres per unit of virtual object `index`'s mesh (the spec's `model_scale`, 1 when
+/// the spec gives none); 0 when `index` is out of range. The pose of annex_object maps
+/// the model's coordinates (metres); the mesh is drawn scaled by this first.
+ANNEX_API double annex_spec_object_model_scale(const annex_spec* spec, size_t index);
 /// Warnings that did not stop reading ("file:line:col: warning: ...").
 ANNEX_API size_t annex_spec_warning_count(const annex_spec* spec);
 ANNEX_API const char* annex_spec_warning(const annex_spec* spec, size_t index);
@@ -190,7 +194,8 @@ typedef enum annex_shape {
   ANNEX_SHAPE_CYLINDER = 1,
   ANNEX_SHAPE_CONE = 2,
   ANNEX_SHAPE_TORUS = 3,
-  ANNEX_SHAPE_BOX = 4
+  ANNEX_SHAPE_BOX = 4,
+  ANNEX_SHAPE_PLANE = 5 /**< a flat rectangle (size_x, size_y); axis its normal */
 } annex_shape;
 
 /// A primitive fitted to a physical object, in the sensor frame.
@@ -222,6 +227,9 @@ ANNEX_API annex_status annex_scene_object(const annex_scene* scene, size_t index
 ANNEX_API annex_status annex_scene_primitive(const annex_scene* scene, size_t object,
                                              size_t primitive, annex_primitive* out,
                                              annex_error** error);
+/// The id of the object that object `index` stands on (a box on a box, a jar on a tin);
+/// "" when it stands on the support itself, NULL when `index` is out of range.
+ANNEX_API const char* annex_scene_object_on(const annex_scene* scene, size_t index);
 /// The support plane n . x + d = 0 (n up, away from it): 1 when the scene has one, else 0.
 ANNEX_API int annex_scene_support(const annex_scene* scene, double normal[3], double* d);
 

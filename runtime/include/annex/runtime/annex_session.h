@@ -61,6 +61,12 @@ struct SessionParams {
   double reanchor_within_m = 0.6;
 };
 
+// What carries an annexed object's pose from frame to frame. track: its own PoseTracker
+// (every prop; a box's face rides on the tracked box). room: a support's free region,
+// static in the room, moved only by the camera's motion (no tracker; state held while
+// the camera's motion is unknown, lost when a scan finds the region taken).
+enum class PoseCarrier { track, room };
+
 // A virtual object annexed to a prop and the state of its tracking.
 struct AnnexedObject {
   int virtual_index = -1;  // into HapticSpec::objects
@@ -74,6 +80,10 @@ struct AnnexedObject {
   // The tracking state; track.confidence in [0, 1] is how sure this frame's pose is
   // (docs/tracking.md), for a game to fade an unsure overlay.
   ObjectTrack track;
+  PoseCarrier carrier = PoseCarrier::track;
+  // The matched primitive's frame in track.pose's frame: identity for a prop, the face's
+  // frame in its box's frame for a plane on a box (`<box>.top`, `<box>.face`).
+  Pose primitive_in_track;
 };
 
 // The virtual model's transform in the sensor frame for the current pose: model
@@ -181,8 +191,15 @@ class AnnexSession {
   std::vector<ExcludedProp> excluded_;
   std::vector<std::string> exclude_requests_;  // applied at the next process()
   std::vector<std::string> exclude_waiting_;   // ids no prop has had yet
+  std::vector<std::string> excluded_surfaces_;  // surface ids (`s1.free`, `p3.top`)
   bool rescan_ = false;
+  bool spec_has_plane_ = false;  // some virtual object has a plane: scans match surfaces
   void apply_exclude_requests(FrameReport& report);
+  std::optional<AnnexedObject> annex_surface(int virtual_index, const Primitive& vp,
+                                             int virtual_primitive, double vote,
+                                             const PhysicalScene& scene, size_t j,
+                                             size_t object_count, const ScanResult& scan,
+                                             int frame_index) const;
 };
 
 }  // namespace annex

@@ -2,7 +2,8 @@
 // Flat surfaces a virtual panel (a plane primitive: a screen, a keyboard, buttons) may
 // be laid on, from one scan: each box's top face (a carton, a book lying flat), each
 // slab's broad face (a laptop's lid), and
-// each selected support's largest free rectangle (the table where nothing stands).
+// each selected support's largest free rectangle within reach (the table where nothing
+// stands, on the user's side).
 // They are reported apart from the scan's objects (ScanResult::surfaces), so a plane
 // never changes the objects' votes; scene_with_surfaces() gives the matcher both.
 
@@ -31,6 +32,11 @@ struct PlaneCandidateParams {
   // A box thinner than this share of its broad face's shorter side is a slab (a book,
   // a tablet, a laptop's lid): its broad face counts whichever way it faces.
   double slab_ratio = 0.25;
+  // A support's free rectangle lies where a hand reaches it: within this distance (on
+  // the plane) beyond the free surface nearest to the camera, the edge the user stands
+  // at (a forearm and hand, 0.5 m). When no rectangle of min_side_m fits there, the whole
+  // free surface is searched.
+  double reach_m = 0.5;
 };
 
 // Candidates named `<object>.top` (a box's top), `<object>.face` (a slab's broad face

@@ -18,6 +18,7 @@
 #include "annex/runtime/frame.h"
 #include "annex/runtime/object_segmenter.h"
 #include "annex/runtime/object_shape_recognizer.h"
+#include "annex/runtime/plane_candidates.h"
 
 namespace annex {
 
@@ -120,6 +121,10 @@ struct ScanParams {
   int border_px = 4;
   int min_whole_points = 400;
   ShapeRecognizerParams shape;
+  // Flat surfaces for virtual panels (ScanResult::surfaces). Off for scans that match no
+  // plane primitive (a session whose spec has none, benchmarks): surfaces stay empty.
+  bool plane_candidates = true;
+  PlaneCandidateParams planes;
   // Worker threads for the per-cluster stages (smoothing, shapes); results do not
   // depend on it.
   int threads = 2;
