@@ -1193,10 +1193,11 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     // pixels are mostly that support's surface, and the surface is a visible share of
     // it (a top seen from above). When something stands on that support, the body is
     // furniture, not a prop: a prop is what stands on it. One with nothing on it (a
-    // storage box) stays an object.
+    // storage box), or lower than furniture (a box with a can on it), stays an object.
     bool body = false;
     for (size_t o = 0; o < ns && !body; ++o) {
       if (static_cast<int>(o) == k || !holds[o] || found[o].plane.d >= plane.d) continue;
+      if (plane.d - found[o].plane.d < params.furniture_min_height_m) continue;
       size_t on_top = 0, at_height = 0;
       for (int i : grid) {
         const Vec3 p = to_vec(f.points[i]);

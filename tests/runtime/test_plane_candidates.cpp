@@ -189,7 +189,9 @@ TEST(PlaneCandidates, TheFreeRectangleIsTheSeenPatchInAWideHull) {
              {x0 - 2.5, -0.5}, {x0 + 3.1, -0.5}, {x0 + 3.1, 4.5}, {x0 - 2.5, 4.5}})
       sp.hull.push_back({x, d, z});
     scan.supports.push_back(sp);
-    const std::vector<PhysicalObject> out = find_plane_candidates(f, scan, ScanParams{});
+    PlaneCandidateParams planes;
+    planes.reach_m = 10;  // the whole patch within reach: this tests the grid's cut
+    const std::vector<PhysicalObject> out = find_plane_candidates(f, scan, ScanParams{}, planes);
     ASSERT_EQ(out.size(), 1u) << x0;
     ASSERT_EQ(out[0].id, "s1.free");
     const PhysicalPrimitive& p = out[0].primitives[0];

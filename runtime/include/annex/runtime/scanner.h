@@ -67,6 +67,10 @@ struct ScanParams {
   // not an object. One as wide as the support is the object whose top the support is
   // (a storage box, a stool) and is kept.
   double under_width_share = 0.5;
+  // A body whose top holds objects is furniture (a cabinet, a shelf) when that top
+  // stands at least this far above the body's own support: furniture rises to a
+  // working height, while a box a can stands on is a prop of hand size (stacking).
+  double furniture_min_height_m = 0.3;
   int pixel_stride = 2;             // plane search works on every n-th pixel
   // The hull of the support's visible part is extended to the camera's foot on the
   // plane (objects in front of the visible floor hide the floor under them).
