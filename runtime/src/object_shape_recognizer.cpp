@@ -569,72 +569,6 @@ std::vector<std::array<double, 2>> hull_2d(std::vector<std::array<double, 2>> pt
   return h;
 }
 
-// Refines a box's azimuth by Gauss-Newton on the point-to-face distances of its side
-// points: each side point belongs to the face its normal faces, a face is a line in the
-// footprint at its points' median offset. Normal azimuths are noisy and biased on a small
-// piece; the points' positions along a face fix its direction over the face's whole length
-// (two pieces of one box seen past a nearer object lie on one face line).
-double refine_box_theta(const Samples& s, const std::vector<int>& sides, double theta) {
-  for (int iter = 0; iter < 6; ++iter) {
-    const double cs = std::cos(theta), sn = std::sin(theta);
-    std::vector<double> xs, ys;
-    for (int i : sides) {
-      xs.push_back(cs * s.p[i].a + sn * s.p[i].b);
-      ys.push_back(-sn * s.p[i].a + cs * s.p[i].b);
-    }
-    // The footprint's middle parts a face from the opposite one.
-    std::vector<double> ax, ay;
-    for (const Local& p : s.p) {
-      ax.push_back(cs * p.a + sn * p.b);
-      ay.push_back(-sn * p.a + cs * p.b);
-    }
-    const double xm = (quantile(ax, 0.005) + quantile(ax, 0.995)) / 2;
-    const double ym = (quantile(ay, 0.005) + quantile(ay, 0.995)) / 2;
-    // Per face (-x, +x, -y, +y): the offset coordinate and its derivative in theta.
-    std::vector<std::array<double, 3>> face[4];  // offset, d offset / d theta, tolerance
-    for (size_t k = 0; k < sides.size(); ++k) {
-      const int i = sides[k];
-      const double nx = cs * s.na[i] + sn * s.nb[i], ny = -sn * s.na[i] + cs * s.nb[i];
-      const double nh = len2(nx, ny);
-      if (nh < 1e-6) continue;
-      if (nx < -0.9 * nh && xs[k] < xm) face[0].push_back({xs[k], ys[k], s.tol[i]});
-      if (nx > 0.9 * nh && xs[k] > xm) face[1].push_back({xs[k], ys[k], s.tol[i]});
-      if (ny < -0.9 * nh && ys[k] < ym) face[2].push_back({ys[k], -xs[k], s.tol[i]});
-      if (ny > 0.9 * nh && ys[k] > ym) face[3].push_back({ys[k], -xs[k], s.tol[i]});
-    }
-    double jj = 0, jr = 0;
-    for (auto& f : face) {
-      if (f.size() < 20) continue;
-      std::vector<double> off;
-      for (const auto& q : f) off.push_back(q[0]);
-      const double d = quantile(off, 0.5);
-      // Points off the face by more than their tolerance (an edge, a neighbour) do not
-      // steer it; the face's own offset is eliminated by centring.
-      double sg = 0, sr = 0, w = 0;
-      std::vector<std::array<double, 2>> in;
-      for (const auto& q : f)
-        if (std::abs(q[0] - d) < q[2]) {
-          in.push_back({q[1], q[0] - d});
-          sg += q[1];
-          sr += q[0] - d;
-          w += 1;
-        }
-      if (w < 20) continue;
-      for (const auto& q : in) {
-        const double g = q[0] - sg / w, r = q[1] - sr / w;
-        jj += g * g;
-        jr += g * r;
-      }
-    }
-    // Too short a face (under about 2 cm of spread) does not fix a direction.
-    if (jj < 20 * 0.01 * 0.01) break;
-    const double step = std::clamp(-jr / jj, -0.05, 0.05);
-    theta += step;
-    if (std::abs(step) < 1e-5) break;
-  }
-  return theta;
-}
-
 // Upright box: orientation of the minimum-area rectangle around the footprint, then
 // robust extents along its sides (the top face spans the footprint when seen from above).
 Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
@@ -678,7 +612,7 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
       sides.push_back(static_cast<int>(i));
     }
     if (sides.size() >= 30 && len2(c4, s4) > 0.3 * sides.size())
-      best_theta = refine_box_theta(s, sides, std::atan2(s4, c4) / 4);
+      best_theta = std::atan2(s4, c4) / 4;
     else
       sides.clear();
   }
