@@ -102,6 +102,7 @@ Status validate_tracker_params(const PoseTrackerParams& p, std::string_view pref
   c.at_least("volume.stride_px", p.volume.stride_px, 1);
   c.at_least("volume.max_visited_pixels", p.volume.max_visited_pixels, 1);
   c.non_negative("volume.min_height_m", p.volume.min_height_m);
+  c.non_negative("volume.support_noise_sigmas", p.volume.support_noise_sigmas);
   c.at_least("volume.normal_step_px", p.volume.normal_step_px, 1);
   for (const auto& [name, icp] : {std::pair<const char*, const IcpParams*>{"icp", &p.icp},
                                   {"align.icp", &p.align.icp}}) {

@@ -13,6 +13,7 @@
 #include "annex/runtime/icp_tracker.h"
 #include "annex/runtime/rigid_motion.h"
 #include "shape_rays.h"
+#include "synthetic_pixels.h"
 
 namespace annex {
 namespace {
@@ -170,12 +171,6 @@ Rect project_sphere(const CameraIntrinsics& k, Vec3 c, double r, double grow) {
   return {out.u0 - grow, out.v0 - grow, out.u1 + grow, out.v1 + grow};
 }
 
-std::array<std::uint8_t, 3> shade(std::array<std::uint8_t, 3> c, double cos_incidence) {
-  const double f = 0.35 + 0.65 * cos_incidence;
-  return {static_cast<std::uint8_t>(c[0] * f), static_cast<std::uint8_t>(c[1] * f),
-          static_cast<std::uint8_t>(c[2] * f)};
-}
-
 constexpr std::array<std::array<std::uint8_t, 3>, 5> kPalette{
     {{220, 50, 47}, {38, 139, 210}, {133, 153, 0}, {181, 137, 0}, {108, 113, 196}}};
 
@@ -282,11 +277,8 @@ SyntheticFrame render_motion_frame(const MotionScene& s, int frame, const Sensor
   const CameraIntrinsics& cam = s.camera;
   const Pose camera = motion_camera_pose(s, frame);
   const Pose camera_from_room = inverse(camera);
-  const int w = cam.width, h = cam.height;
-  const size_t n = static_cast<size_t>(w) * h;
-  std::mt19937_64 rng(mix_seed(s.params.seed, static_cast<std::uint64_t>(frame)));
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const size_t n = static_cast<size_t>(cam.width) * cam.height;
+  synthetic_pixels::Draws draws{std::mt19937_64(mix_seed(s.params.seed, static_cast<std::uint64_t>(frame)))};
   const double jitter = noise.enabled ? noise.lateral_sigma_px : 0.0;
 
   // Every solid of the frame with its image rectangle; label per solid.
@@ -310,84 +302,38 @@ SyntheticFrame render_motion_frame(const MotionScene& s, int frame, const Sensor
                           {2 * s.table_half_x_m, 2 * s.table_half_y_m, s.table_thickness_m},
                           {{0, 0, -s.table_thickness_m * 0.5}, {}}};
 
-  struct PixelHit {
-    double depth = kInf, cos_incidence = 1, ray_x = 0, ray_y = 0;
-    int label = kLabelNothing;
-  };
-  std::vector<PixelHit> hits(n);
   const Vec3 o = camera.position;
-  for (int v = 0; v < h; ++v) {
-    for (int u = 0; u < w; ++u) {
-      const double uj = u + (jitter > 0 ? jitter * gauss(rng) : 0.0);
-      const double vj = v + (jitter > 0 ? jitter * gauss(rng) : 0.0);
-      PixelHit& px = hits[static_cast<size_t>(v) * w + u];
-      px.ray_x = (uj - cam.cx) / cam.fx;
-      px.ray_y = (vj - cam.cy) / cam.fy;
-      // Unit camera z: the ray parameter is the depth.
-      const Vec3 dir = rotate(camera.rotation, {px.ray_x, px.ray_y, 1});
-      Hit best;
-      int label = kLabelNothing;
-      auto take = [&](const Hit& hit, int l) {
-        if (hit.t < best.t) best = hit, label = l;
-      };
-      take(hit_solid(table, o, dir), kLabelTable);
-      if (dir.z < 0) take({(-s.floor_depth_m - o.z) / dir.z, {0, 0, 1}}, kLabelFloor);
-      if (dir.y > 0) take({(s.wall_y_m - o.y) / dir.y, {0, -1, 0}}, kLabelWall);
-      for (size_t i = 0; i < solids.size(); ++i)
-        if (rects[i].contains(u, v)) take(hit_solid(solids[i], o, dir), labels[i]);
-      if (label == kLabelNothing || !(best.t > kMinT) || best.t == kInf) continue;
-      px.depth = best.t;
-      px.label = label;
-      px.cos_incidence = std::abs(dot(best.normal, normalized(dir)));
-    }
-  }
+  const auto hits = synthetic_pixels::cast_pixels(
+      cam, jitter, draws, [&](int u, int v, double ray_x, double ray_y) {
+        // Unit camera z: the ray parameter is the depth.
+        const Vec3 dir = rotate(camera.rotation, {ray_x, ray_y, 1});
+        Hit best;
+        int label = kLabelNothing;
+        auto take = [&](const Hit& hit, int l) {
+          if (hit.t < best.t) best = hit, label = l;
+        };
+        take(hit_solid(table, o, dir), kLabelTable);
+        if (dir.z < 0) take({(-s.floor_depth_m - o.z) / dir.z, {0, 0, 1}}, kLabelFloor);
+        if (dir.y > 0) take({(s.wall_y_m - o.y) / dir.y, {0, -1, 0}}, kLabelWall);
+        for (size_t i = 0; i < solids.size(); ++i)
+          if (rects[i].contains(u, v)) take(hit_solid(solids[i], o, dir), labels[i]);
+        if (label == kLabelNothing || !(best.t > kMinT) || best.t == kInf) return synthetic_pixels::SurfaceHit{};
+        return synthetic_pixels::SurfaceHit{best.t, std::abs(dot(best.normal, normalized(dir))), label};
+      });
 
   SyntheticFrame out;
-  out.frame.width = w;
-  out.frame.height = h;
   out.frame.index = frame;
   out.frame.timestamp_s = frame / kFrameRateHz;
-  out.frame.points.resize(n);
-  out.labels.resize(n);
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  auto depth_at = [&](int u, int v) {
-    return u < 0 || v < 0 || u >= w || v >= h ? kInf : hits[static_cast<size_t>(v) * w + u].depth;
-  };
-  for (int v = 0; v < h; ++v) {
-    for (int u = 0; u < w; ++u) {
-      const size_t i = static_cast<size_t>(v) * w + u;
-      const PixelHit& px = hits[i];
-      PointXYZRGB& p = out.frame.points[i];
-      out.labels[i] = px.label;
-      p.x = p.y = p.z = nan;
-      if (px.label == kLabelNothing) continue;
-      std::array<std::uint8_t, 3> colour{90, 90, 100};
-      if (px.label >= 0) colour = s.props[static_cast<size_t>(px.label)].color;
-      if (px.label == kLabelTable) colour = {165, 120, 80};
-      if (px.label == kLabelWall) colour = {205, 200, 185};
-      if (px.label == kLabelOccluder) colour = {205, 155, 125};
-      colour = shade(colour, px.cos_incidence);
-      p.r = colour[0], p.g = colour[1], p.b = colour[2];
-      const double z = px.depth;
-      if (z < noise.min_range_m || z > noise.max_range_m) continue;
-      double depth = z;
-      if (noise.enabled) {
-        double keep = 1 - noise.dropout;
-        if (px.cos_incidence < noise.grazing_cos) keep *= px.cos_incidence / noise.grazing_cos;
-        bool edge = false;
-        for (const auto& [du, dv] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}})
-          if (std::abs(depth_at(u + du, v + dv) - z) > noise.edge_jump_m) edge = true;
-        if (edge) keep *= 1 - noise.edge_dropout;
-        const double draw = unit(rng);
-        const double e = gauss(rng);
-        if (draw >= keep) continue;
-        depth = z + kinect_axial_sigma_m(z) * e;
-      }
-      p.x = static_cast<float>(px.ray_x * depth);
-      p.y = static_cast<float>(px.ray_y * depth);
-      p.z = static_cast<float>(depth);
-    }
-  }
+  synthetic_pixels::sense_pixels(
+      hits, cam, noise, draws,
+      [&](int label) -> synthetic_pixels::Rgb {
+        if (label >= 0) return s.props[static_cast<size_t>(label)].color;
+        if (label == kLabelTable) return {165, 120, 80};
+        if (label == kLabelWall) return {205, 200, 185};
+        if (label == kLabelOccluder) return {205, 155, 125};
+        return {90, 90, 100};
+      },
+      out.frame, out.labels);
 
   // Truth in the camera frame.
   Plane table_plane;

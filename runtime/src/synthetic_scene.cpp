@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "shape_rays.h"
+#include "synthetic_pixels.h"
 
 namespace annex {
 namespace {
@@ -162,19 +163,6 @@ LocalHit hit_object(const SyntheticObject& obj, Vec3 origin, Vec3 dir) {
   }
   h.normal = rotate_z(h.normal, yaw);
   return h;
-}
-
-struct PixelHit {
-  double depth = kInf;  // camera z of the exact surface point
-  double cos_incidence = 1;
-  double ray_x = 0, ray_y = 0;  // normalized image coordinates of the (jittered) ray
-  int label = kLabelNothing;
-};
-
-std::array<std::uint8_t, 3> shade(std::array<std::uint8_t, 3> c, double cos_incidence) {
-  const double f = 0.35 + 0.65 * cos_incidence;
-  return {static_cast<std::uint8_t>(c[0] * f), static_cast<std::uint8_t>(c[1] * f),
-          static_cast<std::uint8_t>(c[2] * f)};
 }
 
 constexpr std::array<std::array<std::uint8_t, 3>, 10> kPalette{{{220, 50, 47},
@@ -428,13 +416,8 @@ SyntheticFrame render_scene(const SyntheticScene& base, const SensorNoiseParams&
   const SyntheticScene s = scene_at_frame(base, frame_index);
   const CameraIntrinsics& cam = s.camera;
   const CameraAxes axes = camera_axes(s.camera_tilt_deg);
-  const int w = cam.width, h = cam.height;
-  const std::size_t n = static_cast<std::size_t>(w) * h;
-  std::mt19937_64 rng(mix_seed(s.seed, static_cast<std::uint64_t>(frame_index)));
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  const bool noisy = noise.enabled;
-  const double jitter = noisy ? noise.lateral_sigma_px : 0.0;
+  synthetic_pixels::Draws draws{std::mt19937_64(mix_seed(s.seed, static_cast<std::uint64_t>(frame_index)))};
+  const double jitter = noise.enabled ? noise.lateral_sigma_px : 0.0;
 
   // Image rectangles (grown by the jitter) where each object can appear.
   std::vector<PixelRect> rects;
@@ -452,95 +435,52 @@ SyntheticFrame render_scene(const SyntheticScene& base, const SensorNoiseParams&
   }
 
   // Pass 1: the exact surface each (jittered) pixel ray hits.
-  std::vector<PixelHit> hits(n);
   const Vec3 table_half{s.table_half_x_m, s.table_half_y_m, s.table_thickness_m * 0.5};
   const Vec3 table_center{0, 0, -s.table_thickness_m * 0.5};
-  for (int v = 0; v < h; ++v) {
-    for (int u = 0; u < w; ++u) {
-      const double uj = u + (jitter > 0 ? jitter * gauss(rng) : 0.0);
-      const double vj = v + (jitter > 0 ? jitter * gauss(rng) : 0.0);
-      PixelHit& px = hits[static_cast<std::size_t>(v) * w + u];
-      px.ray_x = (uj - cam.cx) / cam.fx;
-      px.ray_y = (vj - cam.cy) / cam.fy;
-      // Camera ray with unit z, so the ray parameter t is the camera depth.
-      const Vec3 dir = axes.x * px.ray_x + axes.y * px.ray_y + axes.z;
-      const Vec3 o = s.camera_position;
-      LocalHit best;
-      int label = kLabelNothing;
-      auto take = [&](const LocalHit& hit, int l) {
-        if (hit.t < best.t) best = hit, label = l;
-      };
-      take(hit_box(o - table_center, dir, table_half), kLabelTable);
-      if (dir.z < 0) take({(-s.floor_depth_m - o.z) / dir.z, {0, 0, 1}}, kLabelFloor);
-      if (dir.y > 0) take({(s.wall_y_m - o.y) / dir.y, {0, -1, 0}}, kLabelWall);
-      for (const SyntheticBlock& b : s.furniture)
-        take(hit_box(o - b.center, dir, b.size_m * 0.5),
-             b.role == SyntheticBlock::Role::leg ? kLabelLeg : kLabelFurniture);
-      for (std::size_t i = 0; i < s.objects.size(); ++i) {
-        const PixelRect& r = rects[i];
-        if (u < r.u0 || u > r.u1 || v < r.v0 || v > r.v1) continue;
-        take(hit_object(s.objects[i], o, dir), static_cast<int>(i));
-      }
-      if (s.occluder && u >= occluder_rect.u0 && u <= occluder_rect.u1 && v >= occluder_rect.v0 &&
-          v <= occluder_rect.v1)
-        take(hit_box(o - s.occluder->center, dir, s.occluder->size_m * 0.5), kLabelOccluder);
-      if (label == kLabelNothing || !(best.t > kMinT) || best.t == kInf) continue;
-      px.depth = best.t;
-      px.label = label;
-      px.cos_incidence = std::abs(dot(best.normal, normalized(dir)));
-    }
-  }
+  const auto hits = synthetic_pixels::cast_pixels(
+      cam, jitter, draws, [&](int u, int v, double ray_x, double ray_y) {
+        // Camera ray with unit z, so the ray parameter t is the camera depth.
+        const Vec3 dir = axes.x * ray_x + axes.y * ray_y + axes.z;
+        const Vec3 o = s.camera_position;
+        LocalHit best;
+        int label = kLabelNothing;
+        auto take = [&](const LocalHit& hit, int l) {
+          if (hit.t < best.t) best = hit, label = l;
+        };
+        take(hit_box(o - table_center, dir, table_half), kLabelTable);
+        if (dir.z < 0) take({(-s.floor_depth_m - o.z) / dir.z, {0, 0, 1}}, kLabelFloor);
+        if (dir.y > 0) take({(s.wall_y_m - o.y) / dir.y, {0, -1, 0}}, kLabelWall);
+        for (const SyntheticBlock& b : s.furniture)
+          take(hit_box(o - b.center, dir, b.size_m * 0.5),
+               b.role == SyntheticBlock::Role::leg ? kLabelLeg : kLabelFurniture);
+        for (std::size_t i = 0; i < s.objects.size(); ++i) {
+          const PixelRect& r = rects[i];
+          if (u < r.u0 || u > r.u1 || v < r.v0 || v > r.v1) continue;
+          take(hit_object(s.objects[i], o, dir), static_cast<int>(i));
+        }
+        if (s.occluder && u >= occluder_rect.u0 && u <= occluder_rect.u1 &&
+            v >= occluder_rect.v0 && v <= occluder_rect.v1)
+          take(hit_box(o - s.occluder->center, dir, s.occluder->size_m * 0.5), kLabelOccluder);
+        if (label == kLabelNothing || !(best.t > kMinT) || best.t == kInf) return synthetic_pixels::SurfaceHit{};
+        return synthetic_pixels::SurfaceHit{best.t, std::abs(dot(best.normal, normalized(dir))), label};
+      });
 
   // Pass 2: sensor model per pixel, then colour.
   SyntheticFrame out;
-  out.frame.width = w;
-  out.frame.height = h;
   out.frame.index = frame_index;
   out.frame.timestamp_s = frame_index / kFrameRateHz;
-  out.frame.points.resize(n);
-  out.labels.resize(n);
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  auto depth_at = [&](int u, int v) {
-    return u < 0 || v < 0 || u >= w || v >= h ? kInf : hits[static_cast<std::size_t>(v) * w + u].depth;
-  };
-  for (int v = 0; v < h; ++v) {
-    for (int u = 0; u < w; ++u) {
-      const std::size_t i = static_cast<std::size_t>(v) * w + u;
-      const PixelHit& px = hits[i];
-      PointXYZRGB& p = out.frame.points[i];
-      out.labels[i] = px.label;
-      p.x = p.y = p.z = nan;
-      if (px.label == kLabelNothing) continue;
-      std::array<std::uint8_t, 3> colour{90, 90, 100};  // floor
-      if (px.label >= 0) colour = s.objects[static_cast<std::size_t>(px.label)].color;
-      if (px.label == kLabelTable) colour = {165, 120, 80};
-      if (px.label == kLabelWall) colour = {205, 200, 185};
-      if (px.label == kLabelOccluder) colour = {205, 155, 125};
-      if (px.label == kLabelLeg) colour = {120, 85, 55};
-      if (px.label == kLabelFurniture) colour = {150, 150, 160};
-      colour = shade(colour, px.cos_incidence);
-      p.r = colour[0], p.g = colour[1], p.b = colour[2];
-      const double z = px.depth;
-      if (z < noise.min_range_m || z > noise.max_range_m) continue;
-      double depth = z;
-      if (noisy) {
-        double keep = 1 - noise.dropout;
-        if (px.cos_incidence < noise.grazing_cos)
-          keep *= px.cos_incidence / noise.grazing_cos;
-        bool edge = false;
-        for (const auto& [du, dv] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}})
-          if (std::abs(depth_at(u + du, v + dv) - z) > noise.edge_jump_m) edge = true;
-        if (edge) keep *= 1 - noise.edge_dropout;
-        const double draw = unit(rng);
-        const double e = gauss(rng);
-        if (draw >= keep) continue;
-        depth = z + kinect_axial_sigma_m(z) * e;
-      }
-      p.x = static_cast<float>(px.ray_x * depth);
-      p.y = static_cast<float>(px.ray_y * depth);
-      p.z = static_cast<float>(depth);
-    }
-  }
+  synthetic_pixels::sense_pixels(
+      hits, cam, noise, draws,
+      [&](int label) -> synthetic_pixels::Rgb {
+        if (label >= 0) return s.objects[static_cast<std::size_t>(label)].color;
+        if (label == kLabelTable) return {165, 120, 80};
+        if (label == kLabelWall) return {205, 200, 185};
+        if (label == kLabelOccluder) return {205, 155, 125};
+        if (label == kLabelLeg) return {120, 85, 55};
+        if (label == kLabelFurniture) return {150, 150, 160};
+        return {90, 90, 100};  // floor
+      },
+      out.frame, out.labels);
   out.truth = ground_truth(s, &out.frame, &out.labels);
   return out;
 }
