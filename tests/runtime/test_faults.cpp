@@ -205,12 +205,17 @@ fs::path long_recording(const fs::path& dir, int count) {
   return dir;
 }
 
+// A folder of this process (the suites of several builds or worktrees run at once).
+fs::path run_dir(const std::string& name) {
+  return fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+}
+
 const std::regex kPoseLine(
     R"(frame \d+ \S+ p\d+ state=(tracking|held|reinit|lost) t=(-?[0-9]+\.[0-9]+,){2}-?[0-9]+\.[0-9]+ )"
     R"(q=(-?[0-9]+\.[0-9]+,){3}-?[0-9]+\.[0-9]+ scale=([0-9]+\.[0-9]+,){2}[0-9]+\.[0-9]+.*)");
 
 TEST(FaultRun, TheLoopGoesOnAndSaysWhatHappened) {
-  const fs::path dir = fs::temp_directory_path() / "annex_test_fault_run";
+  const fs::path dir = run_dir("annex_test_fault_run");
   fs::remove_all(dir);
   const fs::path frames = long_recording(dir / "frames", 60);
   const test::CliRun run =
@@ -284,7 +289,7 @@ TEST(FaultRun, ALiveSourceThatStaysGoneEndsTheRun) {
 
 // A run killed while it writes leaves poses.txt with whole lines only.
 TEST(FaultRun, AKilledRunLeavesWholeLines) {
-  const fs::path dir = fs::temp_directory_path() / "annex_test_fault_kill";
+  const fs::path dir = run_dir("annex_test_fault_kill");
   fs::remove_all(dir);
   const fs::path frames = long_recording(dir / "frames", 90);
   const fs::path poses = dir / "out" / "poses.txt";
