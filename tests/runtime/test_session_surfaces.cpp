@@ -199,6 +199,15 @@ TEST(SessionSurfaces, ARealLaptopLidCarriesAScreenUntilExcluded) {
   }
   const std::vector<std::string> ids = session.excluded_ids();
   EXPECT_NE(std::find(ids.begin(), ids.end(), "p1.face"), ids.end());
+
+  // Excluding the laptop itself (p1, before any scan) excludes its lid's face too.
+  AnnexSession no_laptop(spec, params);
+  no_laptop.exclude("p1");
+  const FrameReport r = no_laptop.process(*frame, 0);
+  EXPECT_EQ(r.excluded, std::vector<std::string>{"p1"});
+  const AnnexedObject* o = find_virtual(r, "panel");
+  ASSERT_NE(o, nullptr);
+  EXPECT_NE(o->physical_id, "p1.face");
 }
 
 }  // namespace
