@@ -77,6 +77,17 @@ annex_frame* frame_of(const annex::Frame& f) {
   return out;
 }
 
+// A 22 x 16 x 8 cm carton on a table seen from above, and a keypad panel of its top's size.
+annex::SyntheticScene carton_on_table() {
+  annex::SyntheticScene scene;
+  scene.camera_position = {0, -0.75, 0.7};
+  scene.objects.push_back(annex::resting_object(annex::ShapeKind::box, {0.22, 0.16, 0.08}, 0, 0));
+  return scene;
+}
+constexpr const char* kKeypadSpec =
+    "annex-haptic 1\nobject keypad\n  primitive face plane\n"
+    "    size_x 0.22\n    size_y 0.16\n  end\nend\n";
+
 TEST(CApi, VersionAndAbi) {
   EXPECT_STREQ(annex_version_string(), ANNEX_VERSION_STRING);
   EXPECT_STREQ(annex_version_string(), ANNEX_EXPECTED_VERSION);  // project(VERSION)
@@ -185,14 +196,10 @@ TEST(CApi, SceneObjectsSayWhatTheyStandOn) {
 // A session whose spec has a virtual panel lays it on a box's top, reported with the
 // props: its pose is the face's centre, its normal the box's up.
 TEST(CApi, SessionLaysAPanelOnABoxTop) {
-  annex::SyntheticScene scene;
-  scene.camera_position = {0, -0.75, 0.7};
-  scene.objects.push_back(annex::resting_object(annex::ShapeKind::box, {0.22, 0.16, 0.08}, 0, 0));
+  const annex::SyntheticScene scene = carton_on_table();
   Err err;
   annex_spec* spec = nullptr;
-  ASSERT_EQ(annex_spec_load_text("annex-haptic 1\nobject keypad\n  primitive face plane\n"
-                                 "    size_x 0.22\n    size_y 0.16\n  end\nend\n",
-                                 "keypad.haptic", &spec, &err),
+  ASSERT_EQ(annex_spec_load_text(kKeypadSpec, "keypad.haptic", &spec, &err),
             ANNEX_OK)
       << err.message();
   annex_session_params params;
@@ -229,9 +236,7 @@ TEST(CApi, SessionLaysAPanelOnABoxTop) {
 // them (the box's top where the generator put it, each one plane with its size_x side),
 // and a keypad spec matches the box's top only through that scene.
 TEST(CApi, ScanReportsSurfacesForPanels) {
-  annex::SyntheticScene scene;
-  scene.camera_position = {0, -0.75, 0.7};
-  scene.objects.push_back(annex::resting_object(annex::ShapeKind::box, {0.22, 0.16, 0.08}, 0, 0));
+  const annex::SyntheticScene scene = carton_on_table();
   const annex::SyntheticFrame f = annex::render_scene(scene, {}, 0);
   Err err;
   annex_scanner* scanner = nullptr;
@@ -288,9 +293,7 @@ TEST(CApi, ScanReportsSurfacesForPanels) {
   EXPECT_EQ(annex_scene_primitive_x_axis(both, objects + surfaces, 0, unused), 0);
 
   annex_spec* spec = nullptr;
-  ASSERT_EQ(annex_spec_load_text("annex-haptic 1\nobject keypad\n  primitive face plane\n"
-                                 "    size_x 0.22\n    size_y 0.16\n  end\nend\n",
-                                 "keypad.haptic", &spec, &err),
+  ASSERT_EQ(annex_spec_load_text(kKeypadSpec, "keypad.haptic", &spec, &err),
             ANNEX_OK)
       << err.message();
   auto matched = [&](const annex_scene* against) {
