@@ -104,6 +104,8 @@ namespace Annex
         public string Shape;
         public Dictionary<string, double> Dimensions = new Dictionary<string, double>();
         public Vec3 Center, Axis;
+        /// <summary>A plane's size_x direction, in its plane; (0, 0, 0) for other shapes.</summary>
+        public Vec3 XAxis;
         public double Fit;
     }
 
@@ -224,6 +226,9 @@ namespace Annex
         [DllImport(Lib)] internal static extern Status annex_scene_object(IntPtr scene, UIntPtr i, out PhysObject o, out IntPtr e);
         [DllImport(Lib)] internal static extern IntPtr annex_scene_object_on(IntPtr scene, UIntPtr i);
         [DllImport(Lib)] internal static extern Status annex_scene_primitive(IntPtr scene, UIntPtr i, UIntPtr p, out Primitive o, out IntPtr e);
+        [DllImport(Lib)] internal static extern UIntPtr annex_scene_surface_count(IntPtr scene);
+        [DllImport(Lib)] internal static extern Status annex_scene_with_surfaces(IntPtr scene, out IntPtr both, out IntPtr e);
+        [DllImport(Lib)] internal static extern int annex_scene_primitive_x_axis(IntPtr scene, UIntPtr i, UIntPtr p, [Out] double[] xAxis);
 
         [DllImport(Lib)] internal static extern Status annex_match_objects(IntPtr spec, IntPtr scene, out IntPtr match, out IntPtr e);
         [DllImport(Lib)] internal static extern void annex_match_destroy(IntPtr match);
@@ -402,17 +407,27 @@ namespace Annex
         }
 
         /// <summary>The objects on the support, left to right; throws (ScanFailed) without one.</summary>
-        public List<PhysicalObject> Scan(Frame frame)
+        public List<PhysicalObject> Scan(Frame frame) => Scan(frame, false);
+
+        /// <summary>
+        /// With <paramref name="surfaces"/> the objects are followed by the flat surfaces a
+        /// virtual panel may lie on (s1.free, p3.top, p1.face: one plane each).
+        /// </summary>
+        public List<PhysicalObject> Scan(Frame frame, bool surfaces)
         {
-            Native.Check(Native.annex_scan(Live, frame.Live, out IntPtr scene, out IntPtr e), e);
+            IntPtr scene = ScanScene(frame, surfaces);
             try { return Read(scene); }
             finally { Native.annex_scene_destroy(scene); }
         }
 
         /// <summary>Scans and matches in one go (the scene handle stays inside).</summary>
-        public List<MatchEntry> Match(Spec spec, Frame frame)
+        public List<MatchEntry> Match(Spec spec, Frame frame) => Match(spec, frame, false);
+
+        /// <summary>With <paramref name="surfaces"/> virtual panels vote for the scan's flat surfaces too.</summary>
+        public List<MatchEntry> Match(Spec spec, Frame frame, bool surfaces)
         {
-            Native.Check(Native.annex_scan(Live, frame.Live, out IntPtr scene, out IntPtr e), e);
+            IntPtr scene = ScanScene(frame, surfaces);
+            IntPtr e;
             try
             {
                 Native.Check(Native.annex_match_objects(spec.Live, scene, out IntPtr match, out e), e);
@@ -428,6 +443,18 @@ namespace Annex
                     return result;
                 }
                 finally { Native.annex_match_destroy(match); }
+            }
+            finally { Native.annex_scene_destroy(scene); }
+        }
+
+        IntPtr ScanScene(Frame frame, bool surfaces)
+        {
+            Native.Check(Native.annex_scan(Live, frame.Live, out IntPtr scene, out IntPtr e), e);
+            if (!surfaces) return scene;
+            try
+            {
+                Native.Check(Native.annex_scene_with_surfaces(scene, out IntPtr both, out e), e);
+                return both;
             }
             finally { Native.annex_scene_destroy(scene); }
         }
@@ -450,6 +477,8 @@ namespace Annex
                         Axis = new Vec3(p.Ax, p.Ay, p.Az),
                         Fit = p.Fit,
                     };
+                    var x = new double[3];
+                    if (Native.annex_scene_primitive_x_axis(scene, (UIntPtr)i, (UIntPtr)j, x) == 1) prim.XAxis = new Vec3(x[0], x[1], x[2]);
                     IntPtr[] names = { p.Name0, p.Name1, p.Name2 };
                     double[] dims = { p.D0, p.D1, p.D2 };
                     for (int d = 0; d < p.DimensionCount && d < 3; ++d) prim.Dimensions[Native.Str(names[d])] = dims[d];

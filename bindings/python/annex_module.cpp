@@ -163,6 +163,8 @@ PYBIND11_MODULE(annex, m) {
       .def_property_readonly("dims", &dims_of)
       .def_property_readonly("center", [](const annex::PhysicalPrimitive& p) { return vec(p.center); })
       .def_property_readonly("axis", [](const annex::PhysicalPrimitive& p) { return vec(p.axis); })
+      // A plane's size_x direction, in its plane; zeros for other shapes.
+      .def_property_readonly("x_axis", [](const annex::PhysicalPrimitive& p) { return vec(p.x_axis); })
       .def_readonly("fit", &annex::PhysicalPrimitive::fit);
 
   py::class_<annex::PhysicalObject>(m, "PhysicalObject")
@@ -241,15 +243,18 @@ PYBIND11_MODULE(annex, m) {
         py::arg("text"), py::arg("origin") = "<text>");
 
   m.def("scan",
-        [](const FloatArray& points, std::optional<std::string> config) {
+        [](const FloatArray& points, std::optional<std::string> config, bool surfaces) {
           const annex::Frame f = frame_from_array(points);
-          const annex::ScanParams p = scan_params(config);
+          annex::ScanParams p = scan_params(config);
+          p.plane_candidates = surfaces;
           py::gil_scoped_release unlocked;
-          return unwrap(annex::scan_frame(f, p)).scene.objects;
+          const annex::ScanResult r = unwrap(annex::scan_frame(f, p));
+          return annex::scene_with_surfaces(r).objects;
         },
-        py::arg("points"), py::arg("config") = py::none(),
+        py::arg("points"), py::arg("config") = py::none(), py::arg("surfaces") = false,
         "The physical objects on the support in an organized frame, left to right "
-        "(config: a scan.conf path).");
+        "(config: a scan.conf path); with surfaces=True followed by the flat surfaces a "
+        "virtual panel may lie on (s1.free, p3.top, p1.face: one plane each), for match().");
 
   m.def("match",
         [](const annex::HapticSpec& spec, const std::vector<annex::PhysicalObject>& objects) {

@@ -261,14 +261,16 @@ bool AnnexSession::scan_in_flight() const {
   return workers_->scanner && workers_->scanner->busy();
 }
 
-// A virtual panel on a scanned surface: a support's free region stays where it is in
-// the room; a box's face rides on a track of its box (the box's cluster as the model),
-// the face's frame fixed in the box's.
+// A virtual panel on a scanned surface (in this frame's sensor coordinates; the scan's
+// objects in its own frame's, `scan_to_now` away): a support's free region stays where
+// it is in the room; a box's face rides on a track of its box (the box's cluster as the
+// model), the face's frame fixed in the box's.
 std::optional<AnnexedObject> AnnexSession::annex_surface(int virtual_index, const Primitive& vp,
                                                          int virtual_primitive, double vote,
                                                          const PhysicalScene& scene, size_t j,
                                                          size_t object_count,
                                                          const ScanResult& scan,
+                                                         const Pose& scan_to_now,
                                                          int frame_index) const {
   const PhysicalObject& s = scene.objects[j];
   if (s.primitives.empty() || s.primitives.front().kind != ShapeKind::plane) return std::nullopt;
@@ -301,9 +303,11 @@ std::optional<AnnexedObject> AnnexSession::annex_surface(int virtual_index, cons
     if (norm(x) < 1e-6) x = rotate(rotation_from_z(z), {1, 0, 0});
     x = normalized(x);
     const Pose box_pose{bp.center, quat_from_axes(x, cross(z, x), z)};
+    // The box's model from the scan's frame; its pose, like the face's, in this one.
     a.track = start_track(bp.kind, scan.clusters[k].points, box_pose, params_.model_points);
+    a.track.pose = compose(scan_to_now, box_pose);
     a.track.confidence = s.fit;
-    a.primitive_in_track = compose(inverse(box_pose), plane);
+    a.primitive_in_track = compose(inverse(a.track.pose), plane);
     return a;
   }
   return std::nullopt;
@@ -329,14 +333,17 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
 
   // The head's motion since the last frame: what is remembered in sensor coordinates
   // (the support, the last scan's objects) moves with it.
-  // (Only while something is tracked: before the first match every frame is scanned.)
-  if (params_.camera_motion && camera_ && static_scene_ && !objects_.empty()) {
+  // (Only while something is tracked, or a background scan runs: the head's motion
+  // until it applies moves what it finds into the frame it applies at.)
+  const bool scan_running = workers_->scanner && workers_->scanner->busy();
+  if (params_.camera_motion && camera_ && static_scene_ && (!objects_.empty() || scan_running)) {
     const CameraMotionResult m =
         estimate_camera_motion(*static_scene_, frame, *camera_, camera_motion_,
                                params_.camera_motion_params);
     report.camera_motion_ok = m.ok;
     report.camera_motion = m.motion;
     camera_motion_ = m.motion;
+    since_scan_frame_ = compose(m.motion, since_scan_frame_);
     for (SupportSurface& sp : supports_) sp.plane = transform_plane(sp.plane, m.motion);
     // A support's free region stays in the room: the camera's motion carries it.
     for (AnnexedObject& o : objects_)
@@ -406,6 +413,7 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
   if (start_background) {
     background->stage(frame, frame_index);
     frames_since_scan_ = 0;
+    since_scan_frame_ = {};
   }
   if (scan_now) {
     const auto t0 = Clock::now();
@@ -423,8 +431,10 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
   if (!tracks.empty()) workers_->trackers.wait();
   report.times.track_ms = ms_since(t_track);
   // A background scan that has finished applies now, a frame or more after its frame.
+  Pose scan_to_now;  // the camera's motion since the frame of the scan applied now
   if (background && !start_background && background->ready()) {
     ScanWorker::Done done = background->take();
+    scan_to_now = since_scan_frame_;
     report.scanned = true;
     report.scan_frame_index = done.frame_index;
     report.times.scan_ms = done.ms;
@@ -543,6 +553,13 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
     const size_t object_count = scene.objects.size();
     if (spec_has_plane_) {
       for (PhysicalObject s : scan.surfaces) {
+        // A background scan's surfaces moved into this frame's sensor coordinates: a
+        // free region has no tracker to catch up with the head's motion meanwhile.
+        for (PhysicalPrimitive& q : s.primitives) {
+          q.center = transform_point(scan_to_now, q.center);
+          q.axis = rotate(scan_to_now.rotation, q.axis);
+          q.x_axis = rotate(scan_to_now.rotation, q.x_axis);
+        }
         const auto [owner, kind] = split_surface_id(s.id);
         for (size_t j = 0; j < object_count; ++j)
           if (scan.scene.objects[j].id == owner) s.id = scene.objects[j].id + kind;
@@ -602,7 +619,7 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
         const Primitive& vp = v.primitives[static_cast<size_t>(e.virtual_primitive)];
         if (j >= object_count) {
           if (auto a = annex_surface(vi, vp, e.virtual_primitive, m.vote, scene, j, object_count,
-                                     scan, frame_index))
+                                     scan, scan_to_now, frame_index))
             objects_.push_back(std::move(*a));
           continue;
         }

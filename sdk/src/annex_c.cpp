@@ -47,6 +47,9 @@ struct annex_scanner {
 
 struct annex_scene {
   annex::PhysicalScene scene;
+  // A scan's flat surfaces for virtual panels (ScanResult::surfaces), apart from the
+  // objects; empty for a loaded scene and for annex_scene_with_surfaces' result.
+  std::vector<annex::PhysicalObject> surfaces;
 };
 
 struct annex_match {
@@ -504,7 +507,7 @@ annex_status annex_scan(annex_scanner* scanner, const annex_frame* frame, annex_
     if (!out) return null_argument(error, "annex_scan", "out");
     annex::Result<annex::ScanResult> r = annex::scan_frame(frame->frame, scanner->params);
     if (!r) return fail(error, ANNEX_SCAN_FAILED, r.error());
-    *out = new annex_scene{std::move(r->scene)};
+    *out = new annex_scene{std::move(r->scene), std::move(r->surfaces)};
     return ok(error);
   });
 }
@@ -517,7 +520,7 @@ annex_status annex_scene_load_file(const char* path, annex_scene** out, annex_er
     if (!out) return null_argument(error, "annex_scene_load_file", "out");
     annex::Result<annex::PhysicalScene> scene = annex::read_scene_file(path);
     if (!scene) return fail(error, file_status(scene.error()), scene.error());
-    *out = new annex_scene{std::move(*scene)};
+    *out = new annex_scene{std::move(*scene), {}};
     return ok(error);
   });
 }
@@ -571,6 +574,31 @@ annex_status annex_scene_primitive(const annex_scene* s, size_t object, size_t p
 const char* annex_scene_object_on(const annex_scene* s, size_t index) {
   return s && index < s->scene.objects.size() ? s->scene.objects[index].on_object.c_str()
                                               : nullptr;
+}
+
+size_t annex_scene_surface_count(const annex_scene* s) { return s ? s->surfaces.size() : 0; }
+
+annex_status annex_scene_with_surfaces(const annex_scene* s, annex_scene** out,
+                                       annex_error** error) {
+  return guarded(error, [&] {
+    if (!s) return null_argument(error, "annex_scene_with_surfaces", "scene");
+    if (!out) return null_argument(error, "annex_scene_with_surfaces", "out");
+    annex::PhysicalScene scene = s->scene;
+    scene.objects.insert(scene.objects.end(), s->surfaces.begin(), s->surfaces.end());
+    *out = new annex_scene{std::move(scene), {}};
+    return ok(error);
+  });
+}
+
+int annex_scene_primitive_x_axis(const annex_scene* s, size_t object, size_t primitive,
+                                 double x_axis[3]) {
+  if (!s || object >= s->scene.objects.size() ||
+      primitive >= s->scene.objects[object].primitives.size())
+    return 0;
+  const annex::PhysicalPrimitive& p = s->scene.objects[object].primitives[primitive];
+  if (p.kind != annex::ShapeKind::plane || annex::norm(p.x_axis) == 0) return 0;
+  if (x_axis) copy3(p.x_axis, x_axis);
+  return 1;
 }
 
 int annex_scene_support(const annex_scene* s, double normal[3], double* d) {

@@ -77,6 +77,17 @@ annex_frame* frame_of(const annex::Frame& f) {
   return out;
 }
 
+// A 22 x 16 x 8 cm carton on a table seen from above, and a keypad panel of its top's size.
+annex::SyntheticScene carton_on_table() {
+  annex::SyntheticScene scene;
+  scene.camera_position = {0, -0.75, 0.7};
+  scene.objects.push_back(annex::resting_object(annex::ShapeKind::box, {0.22, 0.16, 0.08}, 0, 0));
+  return scene;
+}
+constexpr const char* kKeypadSpec =
+    "annex-haptic 1\nobject keypad\n  primitive face plane\n"
+    "    size_x 0.22\n    size_y 0.16\n  end\nend\n";
+
 TEST(CApi, VersionAndAbi) {
   EXPECT_STREQ(annex_version_string(), ANNEX_VERSION_STRING);
   EXPECT_STREQ(annex_version_string(), ANNEX_EXPECTED_VERSION);  // project(VERSION)
@@ -185,14 +196,10 @@ TEST(CApi, SceneObjectsSayWhatTheyStandOn) {
 // A session whose spec has a virtual panel lays it on a box's top, reported with the
 // props: its pose is the face's centre, its normal the box's up.
 TEST(CApi, SessionLaysAPanelOnABoxTop) {
-  annex::SyntheticScene scene;
-  scene.camera_position = {0, -0.75, 0.7};
-  scene.objects.push_back(annex::resting_object(annex::ShapeKind::box, {0.22, 0.16, 0.08}, 0, 0));
+  const annex::SyntheticScene scene = carton_on_table();
   Err err;
   annex_spec* spec = nullptr;
-  ASSERT_EQ(annex_spec_load_text("annex-haptic 1\nobject keypad\n  primitive face plane\n"
-                                 "    size_x 0.22\n    size_y 0.16\n  end\nend\n",
-                                 "keypad.haptic", &spec, &err),
+  ASSERT_EQ(annex_spec_load_text(kKeypadSpec, "keypad.haptic", &spec, &err),
             ANNEX_OK)
       << err.message();
   annex_session_params params;
@@ -223,6 +230,100 @@ TEST(CApi, SessionLaysAPanelOnABoxTop) {
   EXPECT_NEAR(objects[0].scale[0], 1.0, 0.15);
   EXPECT_NEAR(objects[0].scale[1], 1.0, 0.15);
   annex_session_destroy(session);
+}
+
+// A scan's flat surfaces come apart from its objects: annex_scene_with_surfaces appends
+// them (the box's top where the generator put it, each one plane with its size_x side),
+// and a keypad spec matches the box's top only through that scene.
+TEST(CApi, ScanReportsSurfacesForPanels) {
+  const annex::SyntheticScene scene = carton_on_table();
+  const annex::SyntheticFrame f = annex::render_scene(scene, {}, 0);
+  Err err;
+  annex_scanner* scanner = nullptr;
+  ASSERT_EQ(annex_scanner_create(nullptr, &scanner, &err), ANNEX_OK) << err.message();
+  annex_frame* frame = frame_of(f.frame);
+  annex_scene* scanned = nullptr;
+  ASSERT_EQ(annex_scan(scanner, frame, &scanned, &err), ANNEX_OK) << err.message();
+  annex_frame_destroy(frame);
+  annex_scanner_destroy(scanner);
+
+  const size_t objects = annex_scene_object_count(scanned);
+  const size_t surfaces = annex_scene_surface_count(scanned);
+  ASSERT_GE(surfaces, 1u);
+  annex_scene* both = nullptr;
+  ASSERT_EQ(annex_scene_with_surfaces(scanned, &both, &err), ANNEX_OK) << err.message();
+  ASSERT_EQ(annex_scene_object_count(both), objects + surfaces);
+  EXPECT_EQ(annex_scene_surface_count(both), 0u);
+
+  ASSERT_TRUE(f.truth.support.has_value());
+  const annex::Vec3 up = annex::normalized(f.truth.support->normal);
+  const annex::PhysicalPrimitive& box = f.truth.objects.at(0).primitives.at(0);
+  const annex::Vec3 top = box.center + up * (box.dimensions_m[2] / 2);
+  bool found_top = false;
+  for (size_t i = objects; i < objects + surfaces; ++i) {
+    annex_physical_object o;
+    ASSERT_EQ(annex_scene_object(both, i, &o, &err), ANNEX_OK) << err.message();
+    ASSERT_EQ(o.primitive_count, 1) << o.id;
+    annex_primitive p;
+    ASSERT_EQ(annex_scene_primitive(both, i, 0, &p, &err), ANNEX_OK) << err.message();
+    EXPECT_EQ(p.shape, ANNEX_SHAPE_PLANE) << o.id;
+    EXPECT_STREQ(p.shape_name, "plane");
+    ASSERT_EQ(p.dimension_count, 2);
+    EXPECT_STREQ(p.dimension_names[0], "size_x");
+    EXPECT_GE(p.dimensions_m[0], p.dimensions_m[1]) << o.id;
+    const annex::Vec3 normal{p.axis[0], p.axis[1], p.axis[2]};
+    double x[3];
+    ASSERT_EQ(annex_scene_primitive_x_axis(both, i, 0, x), 1) << o.id;
+    const annex::Vec3 x_axis{x[0], x[1], x[2]};
+    EXPECT_NEAR(annex::norm(x_axis), 1.0, 1e-6) << o.id;
+    EXPECT_LT(std::abs(annex::dot(x_axis, normal)), 1e-6) << o.id;
+    if (std::string(o.id) != "p1.top") continue;
+    found_top = true;
+    const annex::Vec3 c{p.center[0], p.center[1], p.center[2]};
+    EXPECT_LT(annex::norm(c - top), 0.02);
+    EXPECT_GT(annex::dot(normal, up), 0.97);
+    EXPECT_NEAR(p.dimensions_m[0], 0.22, 0.03);
+    EXPECT_NEAR(p.dimensions_m[1], 0.16, 0.03);
+  }
+  EXPECT_TRUE(found_top);
+  // The box itself is no plane: its primitive has no x axis to give.
+  ASSERT_GE(objects, 1u);
+  double unused[3];
+  EXPECT_EQ(annex_scene_primitive_x_axis(both, 0, 0, unused), 0);
+  EXPECT_EQ(annex_scene_primitive_x_axis(both, objects + surfaces, 0, unused), 0);
+
+  annex_spec* spec = nullptr;
+  ASSERT_EQ(annex_spec_load_text(kKeypadSpec, "keypad.haptic", &spec, &err),
+            ANNEX_OK)
+      << err.message();
+  auto matched = [&](const annex_scene* against) {
+    annex_match* match = nullptr;
+    EXPECT_EQ(annex_match_objects(spec, against, &match, &err), ANNEX_OK) << err.message();
+    annex_match_entry e{};
+    EXPECT_EQ(annex_match_entry_at(match, 0, &e, &err), ANNEX_OK) << err.message();
+    const std::string id = e.physical_id ? e.physical_id : "(virtual-only)";
+    annex_match_destroy(match);
+    return id;
+  };
+  EXPECT_EQ(matched(both), "p1.top");
+  EXPECT_EQ(matched(scanned), "(virtual-only)");  // the objects alone hold no plane
+  annex_spec_destroy(spec);
+
+  // A scene read from a file has no surfaces; NULL arguments are errors, not crashes.
+  annex_scene* loaded = nullptr;
+  ASSERT_EQ(annex_scene_load_file(source_path("samples/figure3/figure3.scene").c_str(), &loaded,
+                                  &err),
+            ANNEX_OK)
+      << err.message();
+  EXPECT_EQ(annex_scene_surface_count(loaded), 0u);
+  EXPECT_EQ(annex_scene_surface_count(nullptr), 0u);
+  annex_scene* none = nullptr;
+  EXPECT_EQ(annex_scene_with_surfaces(nullptr, &none, &err), ANNEX_INVALID_ARGUMENT);
+  EXPECT_EQ(none, nullptr);
+  EXPECT_EQ(annex_scene_with_surfaces(loaded, nullptr, &err), ANNEX_INVALID_ARGUMENT);
+  annex_scene_destroy(loaded);
+  annex_scene_destroy(both);
+  annex_scene_destroy(scanned);
 }
 
 // Scanning an organized cloud and the same scene as a depth image in millimetres and in

@@ -114,6 +114,29 @@ static class AnnexTest
                           shapeOf[matches["lamp"]] == "sphere" && !matches.ContainsKey("mug"),
                           "matches: " + string.Join(", ", matches.Select(kv => kv.Key + "->" + kv.Value)));
                 }
+                // The scan's flat surfaces follow its objects when asked for: the table's
+                // free rectangle is a plane, and a keyboard panel matches it only then.
+                List<PhysicalObject> withSurfaces = scanner.Scan(frame, true);
+                Check(withSurfaces.Take(objects.Count).Select(o => o.Id).SequenceEqual(objects.Select(o => o.Id)) &&
+                      objects.All(o => o.Shape != "plane"), "surfaces come after the objects");
+                PhysicalObject free = withSurfaces.Skip(objects.Count).FirstOrDefault(o => o.Id == "s1.free");
+                Check(free != null && free.Shape == "plane" && free.Primitives.Count == 1, "the table's free surface is a plane");
+                if (free != null)
+                {
+                    PhysicalPrimitive plane = free.Primitives[0];
+                    Vec3 x = plane.XAxis, n = plane.Axis;
+                    Check(plane.Dimensions["size_x"] >= plane.Dimensions["size_y"] &&
+                          Math.Abs(x.X * x.X + x.Y * x.Y + x.Z * x.Z - 1) < 1e-6 &&
+                          Math.Abs(x.X * n.X + x.Y * n.Y + x.Z * n.Z) < 1e-6,
+                          "the free surface's size_x side lies in its plane: " + x);
+                }
+                using (Spec keyboard = Spec.Parse("annex-haptic 1\nobject keyboard\n  primitive keys plane\n" +
+                                                  "    size_x 0.50\n    size_y 0.12\n  end\nend\n", "keyboard.haptic"))
+                {
+                    Check(scanner.Match(keyboard, frame, true)[0].Physical == "s1.free" &&
+                          scanner.Match(keyboard, frame)[0].Physical == null,
+                          "the keyboard matches the table's free surface only among the surfaces");
+                }
             }
             // A zero-pixel frame is refused with a message, not a crash.
             try

@@ -133,6 +133,58 @@ def test_background_session_applies_scans_a_frame_later():
     assert all(o.matched_frame == 1 for o in objects)
 
 
+KEYBOARD = """annex-haptic 1
+object keyboard
+  primitive keys plane
+    size_x 0.50
+    size_y 0.12
+  end
+end
+"""
+
+
+def test_session_lays_a_virtual_panel_on_the_table():
+    spec = annex.parse_spec(KEYBOARD, "keyboard.haptic")
+    points = annex.load_pcd(str(frames()[0]))
+    # The scan's flat surfaces come after its objects only when asked for; the table's
+    # free rectangle in reach is one plane, and the keyboard matches it only then.
+    objects = annex.scan(points)
+    scanned = annex.scan(points, surfaces=True)
+    assert [o.id for o in scanned[: len(objects)]] == [o.id for o in objects]
+    assert all(o.shape != "plane" for o in objects)
+    free = {o.id: o for o in scanned[len(objects):]}["s1.free"]
+    assert free.shape == "plane" and len(free.primitives) == 1
+    table = free.primitives[0]
+    assert table.dims["size_x"] >= table.dims["size_y"] >= 0.12
+    assert np.dot(table.x_axis, table.axis) == pytest.approx(0.0, abs=1e-6)
+    assert annex.match(spec, scanned)[0].physical == "s1.free"
+    assert annex.match(spec, objects)[0].physical is None
+
+    session = annex.Session(spec, scan_every=2)
+    for k, path in enumerate(frames()):
+        points = annex.load_pcd(str(path))
+        annexed = session.process(points)
+        assert [(o.virtual, o.physical) for o in annexed] == [("keyboard", "s1.free")], k
+        panel = annexed[0]
+        assert panel.state in ("tracking", "held")
+        # The matrix is the rotation times the per-axis scale: its columns are the
+        # panel's axes, size_x along the surface's longer side, +Z the table's normal,
+        # stretched in its plane only.
+        assert panel.scale[2] == pytest.approx(1.0)
+        axes = panel.matrix[:3, :3] / panel.scale
+        assert np.allclose(axes.T @ axes, np.eye(3), atol=1e-6)
+        if k == 0:
+            assert np.linalg.norm(panel.position - table.center) < 0.01
+            # Stretched to the surface within the spec's default scale limits [0.5, 2].
+            size = np.array([table.dims["size_x"], table.dims["size_y"]])
+            assert np.allclose(panel.scale[:2], np.clip(size / [0.50, 0.12], 0.5, 2.0), rtol=0.02)
+            assert abs(np.dot(axes[:, 0], table.x_axis)) > 0.99
+        # Carried by the camera's motion, it stays on this frame's table.
+        here = {o.id: o for o in annex.scan(points, surfaces=True)}["s1.free"].primitives[0]
+        assert np.dot(axes[:, 2], here.axis) > 0.99, k
+        assert abs(np.dot(panel.position - here.center, here.axis)) < 0.01, k
+
+
 def test_session_params_are_checked():
     spec = annex.read_spec(str(STUDY))
     with pytest.raises(annex.Error, match="SessionParams.scan_every must be at least 1, got 0"):

@@ -182,8 +182,9 @@ ANNEX_API annex_status annex_scanner_create(const annex_scan_params* params,
 ANNEX_API annex_status annex_scanner_create_from_config(const char* path, annex_scanner** out,
                                                         annex_error** error);
 ANNEX_API void annex_scanner_destroy(annex_scanner* scanner);
-/// Finds the support plane and the physical objects on it. ANNEX_SCAN_FAILED when the
-/// frame is empty or holds no support.
+/// Finds the support plane and the physical objects on it, and the flat surfaces a
+/// virtual panel may lie on (annex_scene_surface_count, annex_scene_with_surfaces).
+/// ANNEX_SCAN_FAILED when the frame is empty or holds no support.
 ANNEX_API annex_status annex_scan(annex_scanner* scanner, const annex_frame* frame,
                                   annex_scene** out, annex_error** error);
 
@@ -230,6 +231,22 @@ ANNEX_API annex_status annex_scene_primitive(const annex_scene* scene, size_t ob
 /// The id of the object that object `index` stands on (a box on a box, a jar on a tin);
 /// "" when it stands on the support itself, NULL when `index` is out of range.
 ANNEX_API const char* annex_scene_object_on(const annex_scene* scene, size_t index);
+/// The flat surfaces a scan found for virtual panels (docs/perception.md, "Flat surfaces
+/// for virtual panels"): a support's free rectangle `s1.free`, a box's top `p3.top`, a
+/// slab's broad face `p1.face`. They are not among the scene's objects (so they never
+/// change the objects' indices or votes); 0 for a scene read from a file.
+ANNEX_API size_t annex_scene_surface_count(const annex_scene* scene);
+/// A new scene (free it with annex_scene_destroy) whose objects are `scene`'s objects
+/// followed by its surfaces: objects annex_scene_object_count(scene) and on are the
+/// surfaces, each with one ANNEX_SHAPE_PLANE primitive (size_x >= size_y, axis its
+/// normal pointing up, center the rectangle's centre). Match a spec with plane
+/// primitives against it to annex panels; its own surface count is 0.
+ANNEX_API annex_status annex_scene_with_surfaces(const annex_scene* scene, annex_scene** out,
+                                                 annex_error** error);
+/// The direction of a plane primitive's size_x side (a unit vector in its plane): 1 when
+/// the primitive is a plane that has one, else 0 (other shapes, out of range).
+ANNEX_API int annex_scene_primitive_x_axis(const annex_scene* scene, size_t object,
+                                           size_t primitive, double x_axis[3]);
 /// The support plane n . x + d = 0 (n up, away from it): 1 when the scene has one, else 0.
 ANNEX_API int annex_scene_support(const annex_scene* scene, double normal[3], double* d);
 

@@ -181,6 +181,7 @@ class AnnexSession {
   std::vector<PhysicalObject> last_scan_objects_;  // in the current sensor frame
   std::shared_ptr<const TrackingModel> static_scene_;  // the previous frame's
   Pose camera_motion_;  // the last estimate: the next one's prediction
+  Pose since_scan_frame_;  // the camera's motion since the background scan's frame
   int frames_since_scan_ = 0;
   int next_prop_id_ = 1;
   // Props the user excluded, tracked so that scans recognise them (exclude()).
@@ -199,7 +200,7 @@ class AnnexSession {
                                              int virtual_primitive, double vote,
                                              const PhysicalScene& scene, size_t j,
                                              size_t object_count, const ScanResult& scan,
-                                             int frame_index) const;
+                                             const Pose& scan_to_now, int frame_index) const;
 };
 
 }  // namespace annex
