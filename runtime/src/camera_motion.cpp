@@ -10,6 +10,7 @@
 #include "annex/runtime/object_shape_recognizer.h"
 #include "annex/runtime/rigid_motion.h"
 #include "annex/runtime/target_volume_segmenter.h"
+#include "eigen_rotation.h"
 
 namespace annex {
 namespace {
@@ -177,17 +178,6 @@ Vec6 solve_step(const PixelPairs& s) {
   Mat6 h = s.h;
   h.diagonal().array() += 1e-9 * std::max(1.0, h.diagonal().maxCoeff());
   return h.ldlt().solve(-s.g);
-}
-
-Eigen::Matrix3d to_matrix(Quat q) {
-  return Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized().toRotationMatrix();
-}
-
-Quat to_quat(const Eigen::Matrix3d& r) {
-  Eigen::Quaterniond q(r);
-  q.normalize();
-  if (q.w() < 0) q.coeffs() *= -1;
-  return {q.w(), q.x(), q.y(), q.z()};
 }
 
 // Every `n`-th point of the model (the normal-space bins keep their shares).

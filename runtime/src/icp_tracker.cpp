@@ -8,6 +8,8 @@
 #include <numbers>
 #include <numeric>
 
+#include "eigen_rotation.h"
+
 namespace annex {
 namespace {
 
@@ -76,17 +78,6 @@ class KdTree {
   std::vector<int> idx_;
   std::vector<int> axis_;
 };
-
-Eigen::Matrix3d to_matrix(Quat q) {
-  return Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized().toRotationMatrix();
-}
-
-Quat to_quat(const Eigen::Matrix3d& r) {
-  Eigen::Quaterniond q(r);
-  q.normalize();
-  if (q.w() < 0) q.coeffs() *= -1;
-  return {q.w(), q.x(), q.y(), q.z()};
-}
 
 Eigen::Vector3d ev(Vec3 v) {
   return {v.x, v.y, v.z};
