@@ -25,15 +25,7 @@ const fs::path kFbxBox = kModels / "FBX" / "box.fbx";
   if (!fs::exists(path)) GTEST_SKIP() << path << " is absent (Debian's assimp-testmodels, " \
                                                  "installed by scripts/deps.sh)"
 
-void run(EditorDocument& doc, const std::string& text) {
-  auto lines = parse_script(text, "t.script");
-  ASSERT_TRUE(lines) << lines.error().format();
-  for (const ScriptLine& l : *lines) {
-    auto r = run_document_command(doc, l, "t.script");
-    ASSERT_TRUE(r) << r.error().format();
-    ASSERT_TRUE(r->handled) << l.words[0];
-  }
-}
+using testing::run;
 
 std::string run_output(EditorDocument& doc, const std::string& line) {
   auto lines = parse_script(line, "t.script");

@@ -35,16 +35,7 @@ TEST(ParseDouble, IsStrict) {
   EXPECT_FALSE(parse_double("nan", v));
 }
 
-// Runs a script against a document; fails the test on the first error.
-void run(EditorDocument& doc, const std::string& text) {
-  auto lines = parse_script(text, "t.script");
-  ASSERT_TRUE(lines) << lines.error().format();
-  for (const ScriptLine& l : *lines) {
-    auto r = run_document_command(doc, l, "t.script");
-    ASSERT_TRUE(r) << r.error().format();
-    ASSERT_TRUE(r->handled) << l.words[0];
-  }
-}
+using testing::run;
 
 TEST(RunDocumentCommand, BuildsTheTutorialBottle) {
   EditorDocument doc;

@@ -1,5 +1,6 @@
 #pragma once
-// Shared helpers of the authoring tests: a fresh temporary folder per test.
+// Shared helpers of the authoring tests: a fresh temporary folder per test, running a
+// script against a document.
 
 #include <filesystem>
 #include <fstream>
@@ -9,6 +10,9 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+
+#include "annex/authoring/editor_document.h"
+#include "annex/authoring/script.h"
 
 namespace annex::authoring::testing {
 
@@ -30,6 +34,17 @@ inline void write_text(const std::filesystem::path& p, const std::string& text) 
 
 inline std::string sample_model(const std::string& name) {
   return std::string(ANNEX_SOURCE_DIR) + "/samples/models/" + name;
+}
+
+// Runs a script against a document; fails the test on the first error.
+inline void run(EditorDocument& doc, const std::string& text) {
+  auto lines = parse_script(text, "t.script");
+  ASSERT_TRUE(lines) << lines.error().format();
+  for (const ScriptLine& l : *lines) {
+    auto r = run_document_command(doc, l, "t.script");
+    ASSERT_TRUE(r) << r.error().format();
+    ASSERT_TRUE(r->handled) << l.words[0];
+  }
 }
 
 }  // namespace annex::authoring::testing
