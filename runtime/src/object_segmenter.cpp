@@ -57,33 +57,38 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
     g.slot[static_cast<size_t>((i / f.width) / step - g.gy0) * g.gw + (i % f.width) / step - g.gx0] = k;
   }
 
-  // Mean inverse depth over the 3x3 pixels around each pixel of the cluster's box on
-  // the same surface (within 2 cm of the centre), computed once: the crease test reads
-  // it up to 9 times per grid pixel. 0 where the centre is not usable.
+  // Mean inverse depth over the 3x3 pixels around a pixel of the cluster's box on the
+  // same surface (within 2 cm of the centre), 0 where the centre is not usable. The
+  // crease test reads it at each grid pixel and at its arms' ends, up to 9 times per
+  // grid pixel, mostly at pixels other grid pixels read too: each pixel's mean is
+  // computed on first use and kept (a quarter to a half of the box's cluster pixels
+  // are ever read, so computing all of them up front did 2 to 4 times the work).
   const int bx0 = g.gx0 * step, by0 = g.gy0 * step;
   const int bw = std::min(f.width - bx0, g.gw * step), bh = std::min(f.height - by0, g.gh * step);
-  std::vector<float> mean_inv(static_cast<size_t>(bw) * bh, 0.0f);
-  for (int y = std::max(by0, 1); y < std::min(by0 + bh, f.height - 1); ++y)
-    for (int x = std::max(bx0, 1); x < std::min(bx0 + bw, f.width - 1); ++x) {
-      if (g.at(x, y) < 0) continue;
-      const PointXYZRGB& c = f.points[static_cast<size_t>(y) * f.width + x];
-      if (!valid(c)) continue;
-      double sum = 0;
-      int count = 0;
-      for (int dy = -1; dy <= 1; ++dy) {
-        const PointXYZRGB* row = &f.points[static_cast<size_t>(y + dy) * f.width + x];
-        for (int dx = -1; dx <= 1; ++dx) {
-          const PointXYZRGB& q = row[dx];
-          if (!valid(q) || std::abs(q.z - c.z) > 0.02f) continue;
-          sum += 1.0 / q.z;
-          ++count;
-        }
+  constexpr float kUnknown = -1.0f;
+  std::vector<float> mean_inv(static_cast<size_t>(bw) * bh, kUnknown);
+  auto mean_inverse_depth = [&](int x, int y) -> float {
+    if (x < 1 || y < 1 || x >= f.width - 1 || y >= f.height - 1 || g.at(x, y) < 0) return 0.0f;
+    const PointXYZRGB& c = f.points[static_cast<size_t>(y) * f.width + x];
+    if (!valid(c)) return 0.0f;
+    double sum = 0;
+    int count = 0;
+    for (int dy = -1; dy <= 1; ++dy) {
+      const PointXYZRGB* row = &f.points[static_cast<size_t>(y + dy) * f.width + x];
+      for (int dx = -1; dx <= 1; ++dx) {
+        const PointXYZRGB& q = row[dx];
+        if (!valid(q) || std::abs(q.z - c.z) > 0.02f) continue;
+        sum += 1.0 / q.z;
+        ++count;
       }
-      mean_inv[static_cast<size_t>(y - by0) * bw + (x - bx0)] = static_cast<float>(sum / count);
     }
+    return static_cast<float>(sum / count);
+  };
   auto inv_depth = [&](int x, int y) -> double {
     if (x < bx0 || y < by0 || x >= bx0 + bw || y >= by0 + bh) return 0;
-    return mean_inv[static_cast<size_t>(y - by0) * bw + (x - bx0)];
+    float& m = mean_inv[static_cast<size_t>(y - by0) * bw + (x - bx0)];
+    if (m == kUnknown) m = mean_inverse_depth(x, y);
+    return m;
   };
 
   // Crease pixels.
@@ -120,12 +125,15 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
     }
   }
 
-  // Grid neighbours within the 3D tolerance.
+  // Grid neighbours within the 3D tolerance: the 8 neighbours, as the scanner's
+  // clustering joins them (its +-1 grid window), found once and kept in order (the
+  // region passes below walk them up to four times).
   const double tol2 = tolerance_m * tolerance_m;
-  auto neighbours = [&](int k, auto&& visit) {
+  std::vector<int> adjacent_start(static_cast<size_t>(n) + 1, 0), adjacent;
+  adjacent.reserve(static_cast<size_t>(n) * 8);
+  for (int k = 0; k < n; ++k) {
     const int i = grid_pixels[k], x = i % f.width, y = i / f.width;
     const PointXYZRGB& p = f.points[i];
-    // The 8 neighbours, as the scanner's clustering joins them (its +-1 grid window).
     const int nb[8][2] = {{x - step, y}, {x + step, y}, {x, y - step}, {x, y + step},
                           {x - step, y - step}, {x + step, y - step}, {x - step, y + step},
                           {x + step, y + step}};
@@ -134,8 +142,13 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
       if (m < 0) continue;
       const PointXYZRGB& o = f.points[grid_pixels[m]];
       const double dx = p.x - o.x, dy = p.y - o.y, dz = p.z - o.z;
-      if (dx * dx + dy * dy + dz * dz <= tol2) visit(m);
+      if (dx * dx + dy * dy + dz * dz <= tol2) adjacent.push_back(m);
     }
+    adjacent_start[static_cast<size_t>(k) + 1] = static_cast<int>(adjacent.size());
+  }
+  auto neighbours = [&](int k, auto&& visit) {
+    for (int a = adjacent_start[static_cast<size_t>(k)]; a < adjacent_start[static_cast<size_t>(k) + 1]; ++a)
+      visit(adjacent[static_cast<size_t>(a)]);
   };
 
   // Regions over non-crease pixels.
@@ -156,8 +169,10 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
   }
   // Crease pixels join the region that reaches them first (breadth first from every
   // region at once); crease pixels no region reaches form regions of their own.
+  // (Without crease pixels every pixel has its region already.)
   queue.clear();
-  for (int k = 0; k < n; ++k)
+  const bool unassigned = std::any_of(region.begin(), region.end(), [](int r) { return r < 0; });
+  for (int k = 0; k < n && unassigned; ++k)
     if (region[k] >= 0) queue.push_back(k);
   for (size_t q = 0; q < queue.size(); ++q)
     neighbours(queue[q], [&](int m) {

@@ -1181,6 +1181,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   for (const std::vector<int>& grid : grids)
     if (static_cast<int>(grid.size()) * stride * stride >= least_points(grid) / 2)
       holds[static_cast<size_t>(mask[grid.front()] - 1)] = 1;
+  // The clusters kept as objects' candidates, split below.
+  struct Accepted {
+    const std::vector<int>* grid = nullptr;
+    int support = 0, min_points = 0, over = -1;
+  };
+  std::vector<Accepted> accepted;
   for (const std::vector<int>& grid : grids) {
     const int k = mask[grid.front()] - 1;
     if (!result.supports[static_cast<size_t>(k)].selected) continue;
@@ -1253,22 +1259,31 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
       }
       if (hi - lo < params.under_width_share * top_h) continue;
     }
-    // Touching objects apart at the creases and depth steps between them. The regions
-    // grow with the tolerance the clustering used at the cluster's farthest point (it
-    // widens with depth noise), so a far cluster is not cut where it merely is noisy.
+    accepted.push_back({&grid, k, min_points, over});
+  }
+  // Touching objects apart at the creases and depth steps between them, each cluster
+  // on a worker thread (they are independent; the parts are kept in cluster order). The
+  // regions grow with the tolerance the clustering used at the cluster's farthest point
+  // (it widens with depth noise), so a far cluster is not cut where it merely is noisy.
+  std::vector<std::vector<std::vector<int>>> parts(accepted.size());
+  parallel_for(accepted.size(), params.threads, [&](size_t a) {
+    const std::vector<int>& grid = *accepted[a].grid;
     double z_far = 0;
     for (int i : grid) z_far = std::max(z_far, static_cast<double>(f.points[i].z));
+    const PlaneFit& plane = found[static_cast<size_t>(accepted[a].support)].plane;
     for (const std::vector<int>& part :
-         split_cluster(f, grid, stride, cluster_tolerance(params, z_far), params.segment)) {
-      std::vector<int> full = expand_cluster(f, part, stride, plane, params);
-      if (static_cast<int>(full.size()) < min_points ||
+         split_cluster(f, grid, stride, cluster_tolerance(params, z_far), params.segment))
+      parts[a].push_back(expand_cluster(f, part, stride, plane, params));
+  });
+  for (size_t a = 0; a < accepted.size(); ++a)
+    for (std::vector<int>& full : parts[a]) {
+      if (static_cast<int>(full.size()) < accepted[a].min_points ||
           static_cast<int>(full.size()) > params.max_cluster_points)
         continue;
-      if (over >= 0)
+      if (accepted[a].over >= 0)
         for (int i : full) hidden[static_cast<size_t>(i)] = 1;
-      clusters.push_back({std::move(full), k});
+      clusters.push_back({std::move(full), accepted[a].support});
     }
-  }
   std::vector<int> label(f.points.size(), -1);
   for (size_t c = 0; c < clusters.size(); ++c)
     for (int i : clusters[c].pixels) label[i] = static_cast<int>(c);
