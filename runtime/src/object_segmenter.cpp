@@ -108,9 +108,11 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
     // Where even a right-angle crease would not stand out of the noise (beyond about
     // 2 m on a Kinect) the test cannot tell: such pixels are never creases.
     if (threshold > params.right_angle_depth_share * arm_px * z / fx) continue;
+    // Arm lengths in pixels along the rows and columns and along the diagonals.
+    const int r_axis = std::max(1, static_cast<int>(std::lround(arm_px)));
+    const int r_diagonal = std::max(1, static_cast<int>(std::lround(arm_px / std::sqrt(2.0))));
     for (const auto& d : dirs) {
-      const double len = (d[0] != 0 && d[1] != 0) ? arm_px / std::sqrt(2.0) : arm_px;
-      const int r = std::max(1, static_cast<int>(std::lround(len)));
+      const int r = (d[0] != 0 && d[1] != 0) ? r_diagonal : r_axis;
       const double ia = inv_depth(x - d[0] * r, y - d[1] * r);
       const double ib = inv_depth(x + d[0] * r, y + d[1] * r);
       if (ia <= 0 || ib <= 0) continue;

@@ -359,33 +359,33 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
                                         const std::vector<GridCell>& cells, int stride,
                                         int min_region, bool split) {
   const int gw = (f.width + stride - 1) / stride, gh = (f.height + stride - 1) / stride;
-  std::vector<int> label(static_cast<size_t>(gw) * gh, -2);  // -2 not inlier, -1 unvisited
-  for (const GridCell& c : cells) label[static_cast<size_t>(c.y) * gw + c.x] = -1;
+  // The labels live on the grid padded by two cells on every side, which are never
+  // inliers: the neighbour steps below need no bounds test.
+  const int pw = gw + 4;
+  auto cell = [pw](int x, int y) { return static_cast<size_t>(y + 2) * pw + (x + 2); };
+  std::vector<int> label(static_cast<size_t>(pw) * (gh + 4), -2);  // -2 not inlier, -1 unvisited
+  for (const GridCell& c : cells) label[cell(c.x, c.y)] = -1;
   std::vector<int> sizes;
-  std::vector<GridCell> queue;
+  std::vector<size_t> queue;
   // Inliers come in raster order, so regions are numbered as a scan of the grid would.
+  // Neighbours one or two grid steps away along the rows and columns: a surface seen at
+  // a grazing angle loses pixels to dropout (a far table seen from just above its
+  // height), and a single missing cell must not cut it apart.
+  const std::ptrdiff_t steps[8] = {-1, 1, -pw, pw, -2, 2, -2 * pw, 2 * pw};
   for (const GridCell& c : cells) {
-    const size_t start = static_cast<size_t>(c.y) * gw + c.x;
+    const size_t start = cell(c.x, c.y);
     if (label[start] != -1) continue;
     const int next = static_cast<int>(sizes.size());
-    queue.assign(1, c);
+    queue.assign(1, start);
     label[start] = next;
-    for (size_t q = 0; q < queue.size(); ++q) {
-      const int x = queue[q].x, y = queue[q].y;
-      // Neighbours one or two grid steps away along the rows and columns: a surface
-      // seen at a grazing angle loses pixels to dropout (a far table seen from just
-      // above its height), and a single missing cell must not cut it apart.
-      const GridCell nb[8] = {{x - 1, y}, {x + 1, y}, {x, y - 1}, {x, y + 1},
-                              {x - 2, y}, {x + 2, y}, {x, y - 2}, {x, y + 2}};
-      for (const GridCell& m : nb) {
-        if (m.x < 0 || m.x >= gw || m.y < 0 || m.y >= gh) continue;
-        int& l = label[static_cast<size_t>(m.y) * gw + m.x];
-        if (l == -1) {
-          l = next;
+    for (size_t q = 0; q < queue.size(); ++q)
+      for (const std::ptrdiff_t d : steps) {
+        const size_t m = static_cast<size_t>(static_cast<std::ptrdiff_t>(queue[q]) + d);
+        if (label[m] == -1) {
+          label[m] = next;
           queue.push_back(m);
         }
       }
-    }
     sizes.push_back(static_cast<int>(queue.size()));
   }
   const int largest = sizes.empty() ? 0 : *std::max_element(sizes.begin(), sizes.end());
@@ -421,7 +421,7 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
       if (row >= 0) close_row(row);
       row = y;
     }
-    const int l = label[static_cast<size_t>(y) * gw + x];
+    const int l = label[cell(x, y)];
     if (slot[l] < 0) continue;
     const int o = slot[l];
     out[o].members.push_back(i);  // a strided pixel: y * stride * width + x * stride
