@@ -61,8 +61,7 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
   // same surface (within 2 cm of the centre), 0 where the centre is not usable. The
   // crease test reads it at each grid pixel and at its arms' ends, up to 9 times per
   // grid pixel, mostly at pixels other grid pixels read too: each pixel's mean is
-  // computed on first use and kept (a quarter to a half of the box's cluster pixels
-  // are ever read, so computing all of them up front did 2 to 4 times the work).
+  // computed on first use and kept (box pixels no test reads are never computed).
   const int bx0 = g.gx0 * step, by0 = g.gy0 * step;
   const int bw = std::min(f.width - bx0, g.gw * step), bh = std::min(f.height - by0, g.gh * step);
   constexpr float kUnknown = -1.0f;
