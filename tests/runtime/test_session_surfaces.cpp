@@ -35,6 +35,26 @@ const AnnexedObject* find_virtual(const FrameReport& r, const std::string& name)
   return nullptr;
 }
 
+// A 22 x 16 x 8 cm box on the table, seen from 0.75 m back and 0.7 m up, drifting along
+// x by `drift_m_per_frame`.
+SyntheticScene box_on_the_table(double drift_m_per_frame) {
+  SyntheticScene scene;
+  scene.camera_position = {0, -0.75, 0.7};
+  scene.camera_tilt_deg = 45;
+  scene.objects.push_back(resting_object(ShapeKind::box, {0.22, 0.16, 0.08}, -0.1, 0));
+  scene.objects.back().velocity_m_per_frame = {drift_m_per_frame, 0, 0};
+  return scene;
+}
+
+// The centre of the top of the frame's one box, from its ground truth.
+Vec3 true_top(const SyntheticFrame& f) {
+  EXPECT_EQ(f.truth.objects.size(), 1u);
+  EXPECT_TRUE(f.truth.support.has_value());
+  if (f.truth.objects.empty() || !f.truth.support) return {};
+  const PhysicalPrimitive& box = f.truth.objects[0].primitives.at(0);
+  return box.center + normalized(f.truth.support->normal) * (box.dimensions_m[2] / 2);
+}
+
 // Where the panel's centre is (its primitive sits at the model's origin).
 Vec3 panel_centre(const HapticSpec& spec, const AnnexedObject& o) {
   return decompose_model_transform(world_from_model(spec, o)).translation;
@@ -47,11 +67,7 @@ bool ends_with(const std::string& s, const std::string& tail) {
 // A box drifting across the table, 8 mm a frame: a panel of its top's size is laid on
 // the top and moves with the box's track, on the face's centre within 2 cm each frame.
 TEST(SessionSurfaces, APanelOnABoxTopMovesWithTheBox) {
-  SyntheticScene scene;
-  scene.camera_position = {0, -0.75, 0.7};
-  scene.camera_tilt_deg = 45;
-  scene.objects.push_back(resting_object(ShapeKind::box, {0.22, 0.16, 0.08}, -0.1, 0));
-  scene.objects.back().velocity_m_per_frame = {0.008, 0, 0};
+  const SyntheticScene scene = box_on_the_table(0.008);
   const HapticSpec spec = panel_spec(0.22, 0.16);
   SessionParams params;
   params.scan_every = 5;
@@ -65,12 +81,8 @@ TEST(SessionSurfaces, APanelOnABoxTopMovesWithTheBox) {
     if (!panel) continue;
     EXPECT_TRUE(ends_with(panel->physical_id, ".top")) << panel->physical_id;
     EXPECT_EQ(panel->carrier, PoseCarrier::track);
-    ASSERT_EQ(f.truth.objects.size(), 1u);
-    ASSERT_TRUE(f.truth.support.has_value());
-    const PhysicalPrimitive& box = f.truth.objects[0].primitives.at(0);
-    const Vec3 top = box.center + normalized(f.truth.support->normal) * (box.dimensions_m[2] / 2);
     const Vec3 at = panel_centre(spec, *panel);
-    EXPECT_LT(norm(at - top), 0.02) << "frame " << k << " state "
+    EXPECT_LT(norm(at - true_top(f)), 0.02) << "frame " << k << " state "
                                     << tracking_state_name(panel->track.state);
     if (annexed_frames++ == 0) first_at = at;
     last_at = at;
@@ -84,11 +96,7 @@ TEST(SessionSurfaces, APanelOnABoxTopMovesWithTheBox) {
 // panel rides on the crate's track (the same model, the same pose, every frame) and lies
 // on the drifting box's top within 2 cm.
 TEST(SessionSurfaces, ABoxAnnexedAsAPropAndAsAPanelIsTrackedOnce) {
-  SyntheticScene scene;
-  scene.camera_position = {0, -0.75, 0.7};
-  scene.camera_tilt_deg = 45;
-  scene.objects.push_back(resting_object(ShapeKind::box, {0.22, 0.16, 0.08}, -0.1, 0));
-  scene.objects.back().velocity_m_per_frame = {0.008, 0, 0};
+  const SyntheticScene scene = box_on_the_table(0.008);
   Result<HapticSpec> spec = parse_haptic(
       "annex-haptic 1\n"
       "object crate\n  primitive body box\n    size_x 0.22\n    size_y 0.16\n    size_z 0.08\n"
@@ -116,10 +124,8 @@ TEST(SessionSurfaces, ABoxAnnexedAsAPropAndAsAPanelIsTrackedOnce) {
     EXPECT_EQ(panel->track.model.get(), crate->track.model.get()) << "frame " << k;
     EXPECT_EQ(panel->track.pose, crate->track.pose) << "frame " << k;
     EXPECT_EQ(panel->track.state, crate->track.state) << "frame " << k;
-    const PhysicalPrimitive& box = f.truth.objects[0].primitives.at(0);
-    const Vec3 top = box.center + normalized(f.truth.support->normal) * (box.dimensions_m[2] / 2);
     const Vec3 at = panel_centre(*spec, *panel);
-    EXPECT_LT(norm(at - top), 0.02) << "frame " << k;
+    EXPECT_LT(norm(at - true_top(f)), 0.02) << "frame " << k;
     if (both++ == 0) first_at = at;
     last_at = at;
   }
@@ -142,10 +148,7 @@ TEST(SessionSurfaces, ABoxAnnexedAsAPropAndAsAPanelIsTrackedOnce) {
 // the box reappears re-anchors it under the same id, as a lost prop is; the panel then
 // lies on the top at its new place within 2 cm.
 TEST(SessionSurfaces, ALostBoxFaceIsReanchoredUnderItsId) {
-  SyntheticScene scene;
-  scene.camera_position = {0, -0.75, 0.7};
-  scene.camera_tilt_deg = 45;
-  scene.objects.push_back(resting_object(ShapeKind::box, {0.22, 0.16, 0.08}, -0.1, 0));
+  const SyntheticScene scene = box_on_the_table(0);
   SyntheticScene moved = scene;
   moved.objects[0].center = moved.objects[0].center + Vec3{0.12, 0, 0};
   const HapticSpec spec = panel_spec(0.22, 0.16);
@@ -176,10 +179,7 @@ TEST(SessionSurfaces, ALostBoxFaceIsReanchoredUnderItsId) {
       reanchored_at = k;
     if (reanchored_at && k > *reanchored_at) {
       EXPECT_EQ(panel->track.state, TrackingState::tracking) << "frame " << k;
-      const PhysicalPrimitive& box = f.truth.objects[0].primitives.at(0);
-      const Vec3 top =
-          box.center + normalized(f.truth.support->normal) * (box.dimensions_m[2] / 2);
-      EXPECT_LT(norm(panel_centre(spec, *panel) - top), 0.02) << "frame " << k;
+      EXPECT_LT(norm(panel_centre(spec, *panel) - true_top(f)), 0.02) << "frame " << k;
     }
   }
   EXPECT_TRUE(went_unseen) << "the hidden box was tracked: nothing to re-anchor";
