@@ -95,6 +95,20 @@ std::pair<std::string, std::string> split_surface_id(const std::string& id) {
   return {id.substr(0, dot_at), id.substr(dot_at)};
 }
 
+// A box's face that runs a tracker of its box (no prop of that box is annexed): it
+// associates with and re-anchors on its box like a prop.
+bool tracks_its_box(const AnnexedObject& o) {
+  return is_surface(o) && o.carrier == PoseCarrier::track;
+}
+
+// The number of a session id `p<n>`, 0 for any other (a support's `s1`).
+int prop_number(const std::string& id) {
+  if (id.size() < 2 || id[0] != 'p' ||
+      id.find_first_not_of("0123456789", 1) != std::string::npos)
+    return 0;
+  return std::stoi(id.substr(1));
+}
+
 // Where an annexed surface lies now: its centre and normal in the sensor frame.
 Pose surface_pose(const AnnexedObject& o) { return compose(o.track.pose, o.primitive_in_track); }
 
@@ -111,7 +125,7 @@ bool same_surface(const AnnexedObject& o, const PhysicalObject& s, double band_m
   const Vec3 normal = rotate(at.rotation, {0, 0, 1});
   if (dot(normalized(q.axis), normal) < std::cos(15 * 3.14159265358979323846 / 180)) return false;
   const Vec3 r = at.position - q.center;
-  if (o.carrier == PoseCarrier::track) return norm(r) <= same_prop_m;
+  if (o.carrier != PoseCarrier::room) return norm(r) <= same_prop_m;
   if (std::abs(dot(r, normalized(q.axis))) > band_m) return false;
   const Vec3 x = normalized(q.x_axis), y = cross(normalized(q.axis), x);
   return q.dimensions_m.size() >= 2 && std::abs(dot(r, x)) <= q.dimensions_m[0] / 2 &&
@@ -237,13 +251,24 @@ void AnnexSession::apply_exclude_requests(FrameReport& report) {
         excluded_surfaces_.push_back(std::move(id));
       continue;
     }
+    // The panels on a prop's faces go with it: a user who forbids a box forbids
+    // touching it.
+    auto released_faces = [&] {
+      std::erase_if(objects_, [&](const AnnexedObject& o) {
+        if (!is_surface(o) || split_surface_id(o.physical_id).first != id) return false;
+        report.released.push_back(o.virtual_name);
+        return true;
+      });
+    };
     if (annexed != objects_.end()) {
       report.released.push_back(annexed->virtual_name);
       report.excluded.push_back(id);
       excluded_.push_back({id, std::move(annexed->track)});
       objects_.erase(annexed);
+      released_faces();
       continue;
     }
+    released_faces();
     const bool known =
         std::any_of(excluded_.begin(), excluded_.end(),
                     [&](const ExcludedProp& e) { return e.physical_id == id; }) ||
@@ -259,6 +284,30 @@ void AnnexSession::wait_for_scan() {
 
 bool AnnexSession::scan_in_flight() const {
   return workers_->scanner && workers_->scanner->busy();
+}
+
+// A box's face whose box is annexed as a prop (by another virtual object) rides on the
+// prop's track: the face's frame is re-expressed in the prop's object frame once, when
+// the two meet, and the prop's track is copied each frame, so the box is tracked once.
+// A face whose prop is gone (released at the same frame, as its state is the prop's)
+// keeps the copy and tracks its box itself from then on.
+void AnnexSession::ride_faces_on_props() {
+  for (AnnexedObject& face : objects_) {
+    if (!is_surface(face) || face.carrier == PoseCarrier::room) continue;
+    const std::string owner = split_surface_id(face.physical_id).first;
+    const auto prop = std::find_if(objects_.begin(), objects_.end(), [&](const AnnexedObject& o) {
+      return !is_surface(o) && o.physical_id == owner;
+    });
+    if (prop == objects_.end()) {
+      face.carrier = PoseCarrier::track;
+      continue;
+    }
+    if (face.carrier == PoseCarrier::track) {
+      face.primitive_in_track = compose(inverse(prop->track.pose), surface_pose(face));
+      face.carrier = PoseCarrier::prop;
+    }
+    face.track = prop->track;
+  }
 }
 
 // A virtual panel on a scanned surface (in this frame's sensor coordinates; the scan's
@@ -451,6 +500,7 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
         frame, *camera_, moving_props(tracked, params_.camera_motion_params),
         params_.camera_motion_params));
   for (size_t i = 0; i < tracks.size(); ++i) *tracks[i] = std::move(tracked[i]);
+  ride_faces_on_props();
   // An excluded prop lost this long has left the view: its exclusion ends.
   std::erase_if(excluded_, [&](const ExcludedProp& e) {
     return e.track.state == TrackingState::lost &&
@@ -473,6 +523,9 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
     // each; excluded props after the annexed ones in `tracks`).
     PhysicalScene scene = scan.scene;
     std::vector<bool> taken(scene.objects.size(), false);
+    // Named by a face's track of its box: the box keeps its id but stays free to vote
+    // for (a prop annexed on it then carries the face).
+    std::vector<bool> named(scene.objects.size(), false);
     std::vector<std::tuple<double, size_t, size_t>> pairs;
     auto id_of = [&](size_t a) -> const std::string& {
       return a < objects_.size() ? objects_[a].physical_id
@@ -480,7 +533,8 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
     };
     const size_t known_props = objects_.size() + excluded_.size();
     for (size_t a = 0; a < known_props; ++a) {
-      if (a < objects_.size() && is_surface(objects_[a])) continue;  // matched on surfaces
+      // Surfaces are matched on the scan's surfaces; a face tracking its box names it.
+      if (a < objects_.size() && is_surface(objects_[a]) && !tracks_its_box(objects_[a])) continue;
       const Vec3 at = a < objects_.size() ? objects_[a].track.pose.position
                                           : excluded_[a - objects_.size()].track.pose.position;
       for (size_t j = 0; j < scene.objects.size(); ++j) {
@@ -491,22 +545,26 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
     std::sort(pairs.begin(), pairs.end());
     std::vector<bool> object_done(known_props, false);
     for (const auto& [d, a, j] : pairs) {
-      if (object_done[a] || taken[j]) continue;
+      if (object_done[a] || taken[j] || named[j]) continue;
       object_done[a] = true;
-      taken[j] = true;
-      scene.objects[j].id = id_of(a);
+      const bool face = a < objects_.size() && is_surface(objects_[a]);
+      (face ? named : taken)[j] = true;
+      scene.objects[j].id = face ? split_surface_id(id_of(a)).first : id_of(a);
     }
     // A lost prop seen again elsewhere: re-anchored on the nearest free scanned object of
-    // its shape (the InitialAligner decides), keeping its physical id.
+    // its shape (the InitialAligner decides), keeping its physical id. So is a lost box's
+    // face on its box (the box then keeps the face's owner id, free to vote for).
     TrackingInput here = input;
     here.support = scan.plane;
     here.camera_motion = {};
     for (size_t a = 0; a < objects_.size(); ++a) {
       ObjectTrack& t = objects_[a].track;
-      if (object_done[a] || t.state != TrackingState::lost || is_surface(objects_[a])) continue;
+      const bool face = tracks_its_box(objects_[a]);
+      if (object_done[a] || t.state != TrackingState::lost || (is_surface(objects_[a]) && !face))
+        continue;
       std::vector<std::pair<double, size_t>> near;
       for (size_t j = 0; j < scene.objects.size(); ++j) {
-        if (taken[j]) continue;
+        if (taken[j] || named[j]) continue;
         for (const PhysicalPrimitive& p : scene.objects[j].primitives)
           if (p.kind == t.model->kind && norm(p.center - t.pose.position) <= params_.reanchor_within_m)
             near.emplace_back(norm(p.center - t.pose.position), j);
@@ -519,8 +577,9 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
         const ObjectTrack found = reanchor_track(t, *prim, here, params_.tracker);
         if (found.state != TrackingState::reinit) continue;
         t = found;
-        taken[j] = true;
-        scene.objects[j].id = objects_[a].physical_id;
+        (face ? named : taken)[j] = true;
+        scene.objects[j].id =
+            face ? split_surface_id(objects_[a].physical_id).first : objects_[a].physical_id;
         report.reanchored.push_back(objects_[a].virtual_name);
         break;
       }
@@ -528,11 +587,19 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
     // Fresh, never reused ids for the others, in scan order.
     std::vector<bool> matched(spec_.objects.size(), false);
     for (const AnnexedObject& o : objects_) matched[static_cast<size_t>(o.virtual_index)] = true;
+    // An annexed face's box keeps its id (`p3` of `p3.top`) while the face is annexed:
+    // no other object gets it meanwhile.
+    auto owner_of_a_face = [&](const std::string& id) {
+      return std::any_of(objects_.begin(), objects_.end(), [&](const AnnexedObject& o) {
+        return is_surface(o) && split_surface_id(o.physical_id).first == id;
+      });
+    };
     int fresh = next_prop_id_;
     for (size_t j = 0; j < scene.objects.size(); ++j) {
-      if (taken[j]) continue;
+      if (taken[j] || named[j]) continue;
       PhysicalObject& po = scene.objects[j];
-      po.id = "p" + std::to_string(fresh++);
+      do po.id = "p" + std::to_string(fresh++);
+      while (owner_of_a_face(po.id));
       // An id the user excluded before any prop had it: this prop, tracked, never votes.
       const auto waiting = std::find(exclude_waiting_.begin(), exclude_waiting_.end(), po.id);
       if (waiting == exclude_waiting_.end() || po.primitives.empty() ||
@@ -639,12 +706,14 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
         a.track = start_track(a.physical.kind, scan.clusters[j].points, pose, params_.model_points);
         a.track.confidence = po.fit;
         objects_.push_back(std::move(a));
-        const int id = std::stoi(po.id.substr(1));
-        next_prop_id_ = std::max(next_prop_id_, id + 1);
+        next_prop_id_ = std::max(next_prop_id_, prop_number(po.id) + 1);
       }
       report.match_scene = std::move(scene);
       report.match = std::move(result);
     }
+    // A prop annexed on a box whose face is annexed, or the face on an annexed box's, or
+    // a prop re-anchored: the faces ride on it from this frame.
+    ride_faces_on_props();
   }
   std::sort(objects_.begin(), objects_.end(), [](const AnnexedObject& a, const AnnexedObject& b) {
     return a.virtual_index < b.virtual_index;

@@ -16,6 +16,7 @@
 
 #include "panels.h"
 #include "view.h"
+#include "../unique_temp_dir.h"
 
 namespace annex::authoring {
 namespace {
@@ -182,8 +183,7 @@ TEST_F(HeadlessPanels, DraggingARankOntoAnotherReordersThePrimitives) {
 }
 
 TEST_F(HeadlessPanels, FileDialogListsMatchingFilesAndOpensTheChosenOne) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                    ("annex_file_dialog_" + std::to_string(::getpid()));
+  const annex::test::TempDir dir("file_dialog");
   std::filesystem::create_directories(dir / "models");
   std::ofstream(dir / "a.haptic") << "annex-haptic 1\n";
   std::ofstream(dir / "notes.txt") << "not a spec\n";
@@ -204,7 +204,6 @@ TEST_F(HeadlessPanels, FileDialogListsMatchingFilesAndOpensTheChosenOne) {
   ASSERT_EQ(got.size(), 1u);
   EXPECT_EQ(got[0].kind, AppAction::Kind::open);
   EXPECT_EQ(std::filesystem::path(got[0].path), dir / "a.haptic");
-  std::filesystem::remove_all(dir);
 }
 
 TEST_F(HeadlessPanels, DrawingAloneRequestsNoEdits) {

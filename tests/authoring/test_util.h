@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "../unique_temp_dir.h"
+
 #include "annex/authoring/editor_document.h"
 #include "annex/authoring/script.h"
 
@@ -18,11 +20,11 @@ namespace annex::authoring::testing {
 
 inline std::filesystem::path fresh_dir(const std::string& name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  // The process id keeps apart two checkouts running the same test at once.
-  std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / "annex-author-tests" /
-      (std::string(info->test_suite_name()) + "." + info->name() + "." + name + "." +
-       std::to_string(::getpid()));
+  // Under this program's own folder (unique_temp_dir.h): two checkouts running the same
+  // test at once never share it.
+  std::filesystem::path dir = annex::test::process_temp_dir() /
+                              (std::string(info->test_suite_name()) + "." + info->name() + "." +
+                               name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

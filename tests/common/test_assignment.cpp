@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "../unique_temp_dir.h"
+
 namespace annex {
 namespace {
 
@@ -303,9 +305,7 @@ bool scipy_available() {
 
 // Writes the matrix as text, runs SciPy on it and returns its best total.
 double scipy_total(const WeightMatrix& w, const std::string& name) {
-  const std::filesystem::path file = std::filesystem::temp_directory_path() /
-                                     ("annex_test_assignment_" + std::to_string(getpid()) +
-                                      "_" + name + ".txt");
+  const std::filesystem::path file = test::process_temp_dir() / ("assignment_" + name + ".txt");
   {
     std::ofstream out(file);
     out.precision(17);

@@ -14,6 +14,7 @@
 
 #include "annex/formats/haptic_format.h"
 #include "annex/formats/scene_format.h"
+#include "../unique_temp_dir.h"
 #include "format_test_util.h"
 
 namespace annex {
@@ -24,18 +25,11 @@ namespace fs = std::filesystem;
 // A fresh directory per test under the system temp dir, removed afterwards.
 class FileIo : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("annex-formats-" + std::to_string(::getpid()) + "-" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   int entries() const {
     return static_cast<int>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
   }
-  fs::path dir_;
+  const test::TempDir tmp_{"formats_file_io"};
+  const fs::path dir_ = tmp_.path();
 };
 
 TEST_F(FileIo, MissingFileNamesThePath) {

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cli_runner.h"
+#include "temp_dir.h"
 
 namespace annex::test {
 namespace {
@@ -16,7 +17,7 @@ std::string figure3_with(const std::string& name, const std::string& rules) {
   std::ifstream in(source_path("samples/figure3/figure3.haptic"));
   std::stringstream text;
   text << in.rdbuf() << "\n" << rules;
-  const auto dir = std::filesystem::temp_directory_path() / "annex_cli_exclude";
+  const auto dir = process_temp_dir() / "cli_exclude";
   std::filesystem::create_directories(dir);
   const auto path = dir / (name + ".haptic");
   std::ofstream(path) << text.str();

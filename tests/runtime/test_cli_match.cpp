@@ -5,12 +5,13 @@
 #include <fstream>
 
 #include "cli_runner.h"
+#include "temp_dir.h"
 
 namespace annex::test {
 namespace {
 
 std::string temp_file(const std::string& name, const std::string& content) {
-  const auto dir = std::filesystem::temp_directory_path() / "annex_cli_tests";
+  const auto dir = process_temp_dir() / "cli_match";
   std::filesystem::create_directories(dir);
   const auto path = dir / name;
   std::ofstream(path) << content;

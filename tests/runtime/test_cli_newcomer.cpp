@@ -9,12 +9,13 @@
 #include <string>
 
 #include "cli_runner.h"
+#include "temp_dir.h"
 
 namespace annex::test {
 namespace {
 
 std::string temp_spec(const std::string& name, const std::string& content) {
-  const auto dir = std::filesystem::temp_directory_path() / "annex_cli_newcomer";
+  const auto dir = process_temp_dir() / "cli_newcomer";
   std::filesystem::create_directories(dir);
   const auto path = dir / name;
   std::ofstream(path) << content;
@@ -147,9 +148,7 @@ std::string study_without_min_vote() {
 
 TEST(CliRunLimits, AClampedMatchIsReportedInEveryOutput) {
   const std::string spec = study_without_min_vote();
-  const auto out = std::filesystem::temp_directory_path() / "annex_cli_newcomer_clamped";
-  std::filesystem::remove_all(out);
-  std::filesystem::create_directories(out);
+  const TempDir out("cli_newcomer_clamped");
   std::ofstream(out / "overlay_00099.png") << "stale";
   std::ofstream(out / "keep.png") << "not ours";
   const CliRun r = run_cli("run " + shell_quote(spec) + " --source " +
@@ -179,7 +178,6 @@ TEST(CliRunLimits, AClampedMatchIsReportedInEveryOutput) {
   }
   EXPECT_GT(mug, 0);
   EXPECT_EQ(clamped, mug);
-  std::filesystem::remove_all(out);
 }
 
 TEST(CliRunLimits, WithinLimitsLeavesTheMugVirtualAndSaysWhy) {

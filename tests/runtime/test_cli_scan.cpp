@@ -10,6 +10,7 @@
 #include "annex/runtime/pcd_io.h"
 #include "annex/runtime/synthetic_scene.h"
 #include "cli_runner.h"
+#include "temp_dir.h"
 
 namespace annex {
 namespace {
@@ -17,22 +18,10 @@ namespace {
 using test::run_cli;
 using test::shell_quote;
 
-std::filesystem::path temp_dir() {
-  const auto d = std::filesystem::temp_directory_path() /
-                 ("annex_cli_scan_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(d);
-  return d;
+// This program's temporary folder, removed when it ends.
+const std::filesystem::path& temp_dir() {
+  return test::process_temp_dir();
 }
-
-// Removes the temporary directory when the test program ends.
-class TempDirCleanup : public ::testing::Environment {
- public:
-  void TearDown() override {
-    std::error_code ec;
-    std::filesystem::remove_all(temp_dir(), ec);
-  }
-};
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new TempDirCleanup);
 
 // A generated tabletop frame written as PCD.
 std::filesystem::path scene_pcd() {

@@ -15,6 +15,7 @@
 #include "annex/runtime/pcd_io.h"
 #include "annex/runtime/scanner.h"
 #include "cli_runner.h"
+#include "temp_dir.h"
 
 namespace annex::test {
 namespace {
@@ -44,8 +45,7 @@ Vec3 translation_of(const std::string& line) {
 
 TEST(CliSurfaces, RunWritesThePanelsPosesFrameByFrame) {
   if (!have_frames()) GTEST_SKIP() << "../shared/data/real is absent: real-scan test skipped";
-  const auto dir = std::filesystem::temp_directory_path() / "annex_cli_surfaces";
-  std::filesystem::remove_all(dir);
+  const TempDir dir("cli_surfaces");
   std::filesystem::create_directories(dir / "frames");
   for (const char* f : kFrames) std::filesystem::create_symlink(kReal / f, dir / "frames" / f);
   std::ofstream(dir / "panels.haptic") << kPanels;

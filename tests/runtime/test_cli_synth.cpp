@@ -12,6 +12,7 @@
 #include "annex/formats/scene_format.h"
 #include "annex/runtime/pcd_io.h"
 #include "cli_runner.h"
+#include "temp_dir.h"
 
 namespace annex::test {
 namespace {
@@ -19,8 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("annex_cli_synth_" + name + "_" + std::to_string(::getpid()));
+  const fs::path dir = process_temp_dir() / ("cli_synth_" + name);
   fs::remove_all(dir);
   return dir;
 }

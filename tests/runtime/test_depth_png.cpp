@@ -15,6 +15,7 @@
 
 #include "annex/formats/png_io.h"
 #include "png_test_encoder.h"
+#include "temp_dir.h"
 
 namespace annex {
 namespace {
@@ -24,17 +25,13 @@ using test::encode_grey_png;
 
 class DepthPngTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("annex_depth_png_" + std::to_string(getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   fs::path write(const std::string& name, const std::string& bytes) {
     fs::path p = dir_ / name;
     std::ofstream(p, std::ios::binary) << bytes;
     return p;
   }
-  fs::path dir_;
+  const test::TempDir tmp_{"depth_png"};
+  const fs::path dir_ = tmp_.path();
 };
 
 TEST_F(DepthPngTest, ReadsSixteenBitDepthWithScale) {

@@ -21,6 +21,7 @@
 #include "annex/runtime/annex_session.h"
 #include "annex/runtime/synthetic_scene.h"
 #include "cli_runner.h"
+#include "temp_dir.h"
 #include "session_fixture.h"
 
 namespace annex {
@@ -207,7 +208,7 @@ fs::path long_recording(const fs::path& dir, int count) {
 
 // A folder of this process (the suites of several builds or worktrees run at once).
 fs::path run_dir(const std::string& name) {
-  return fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+  return test::process_temp_dir() / name;
 }
 
 const std::regex kPoseLine(

@@ -13,8 +13,10 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -23,6 +25,7 @@
 #include <thread>
 
 #include "cli_runner.h"
+#include "temp_dir.h"
 
 extern char** environ;
 
@@ -32,8 +35,9 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-// A UDP port on 127.0.0.1 that nothing listens on at the moment.
-int free_udp_port() {
+// A loopback UDP port the OS picks, free when this returns (for a process that binds it
+// next: OscDump retries when another took it in between).
+int ephemeral_udp_port() {
   const int fd = socket(AF_INET, SOCK_DGRAM, 0);
   sockaddr_in a{};
   a.sin_family = AF_INET;
@@ -45,6 +49,35 @@ int free_udp_port() {
   close(fd);
   return ntohs(a.sin_port);
 }
+
+// A loopback UDP port where nothing listens, held for the test so that no concurrent test
+// binds it: the socket is bound to a port the OS picks and connected to itself, so the
+// kernel hands it no datagram from another port and answers those with ICMP port
+// unreachable, as for a closed port.
+class RefusingUdpPort {
+ public:
+  RefusingUdpPort() : fd_(socket(AF_INET, SOCK_DGRAM, 0)) {
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t len = sizeof a;
+    if (fd_ < 0 || bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
+        getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &len) != 0 ||
+        connect(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0)
+      ADD_FAILURE() << "cannot hold a loopback UDP port: " << std::strerror(errno);
+    port_ = ntohs(a.sin_port);
+  }
+  ~RefusingUdpPort() {
+    if (fd_ >= 0) close(fd_);
+  }
+  RefusingUdpPort(const RefusingUdpPort&) = delete;
+  RefusingUdpPort& operator=(const RefusingUdpPort&) = delete;
+  int port() const { return port_; }
+
+ private:
+  int fd_;
+  int port_ = 0;
+};
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p);
@@ -59,35 +92,24 @@ bool oscsend(int port, const std::string& address, const std::string& types_and_
   return std::system(cmd.c_str()) == 0;
 }
 
-// oscdump listening on a loopback port, its output in a file; killed on destruction.
+// oscdump listening on a loopback port the OS picked, its output in a file; killed on
+// destruction. oscdump takes a port number, not 0: when another process binds the port
+// first, oscdump fails (or never sees the probes) and a new port is tried.
 class OscDump {
  public:
-  OscDump(int port, fs::path out) : port_(port), out_(std::move(out)) {
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, out_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const std::string port_text = std::to_string(port);
-    char* argv[] = {const_cast<char*>("oscdump"), const_cast<char*>("-L"),
-                    const_cast<char*>(port_text.c_str()), nullptr};
-    if (posix_spawnp(&pid_, "oscdump", &actions, nullptr, argv, environ) != 0) pid_ = -1;
-    posix_spawn_file_actions_destroy(&actions);
-  }
-  ~OscDump() {
-    if (pid_ > 0) {
-      kill(pid_, SIGTERM);
-      waitpid(pid_, nullptr, 0);
+  explicit OscDump(fs::path out) : out_(std::move(out)) {
+    for (int attempt = 0; attempt < 5 && !ready_; ++attempt) {
+      stop();
+      port_ = ephemeral_udp_port();
+      if (!spawn()) return;  // not installed
+      ready_ = wait_ready();
     }
   }
+  ~OscDump() { stop(); }
   bool started() const { return pid_ > 0; }
-  // Sends probes until one shows up in the dump: oscdump is listening.
-  bool wait_ready() {
-    for (int i = 0; i < 200; ++i) {
-      oscsend(port_, "/probe", "i " + std::to_string(i));
-      std::this_thread::sleep_for(25ms);
-      if (slurp(out_).find("/probe") != std::string::npos) return true;
-    }
-    return false;
-  }
+  // oscdump answered a probe: it is listening on port().
+  bool ready() const { return ready_; }
+  int port() const { return port_; }
   // Waits until `count` lines containing `what` were dumped (or gives up).
   std::string wait_for(const std::string& what, int count) {
     std::string text;
@@ -102,9 +124,43 @@ class OscDump {
   }
 
  private:
-  int port_;
+  bool spawn() {
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, out_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const std::string port_text = std::to_string(port_);
+    char* argv[] = {const_cast<char*>("oscdump"), const_cast<char*>("-L"),
+                    const_cast<char*>(port_text.c_str()), nullptr};
+    if (posix_spawnp(&pid_, "oscdump", &actions, nullptr, argv, environ) != 0) pid_ = -1;
+    posix_spawn_file_actions_destroy(&actions);
+    return pid_ > 0;
+  }
+  void stop() {
+    if (pid_ > 0) {
+      kill(pid_, SIGTERM);
+      waitpid(pid_, nullptr, 0);
+    }
+    pid_ = -1;
+  }
+  // Sends probes until one shows up in the dump; gives up when oscdump exited (it could
+  // not bind the port).
+  bool wait_ready() {
+    for (int i = 0; i < 200; ++i) {
+      oscsend(port_, "/probe", "i " + std::to_string(i));
+      std::this_thread::sleep_for(25ms);
+      if (slurp(out_).find("/probe") != std::string::npos) return true;
+      if (waitpid(pid_, nullptr, WNOHANG) == pid_) {
+        pid_ = -1;
+        return false;
+      }
+    }
+    return false;
+  }
+
+  int port_ = 0;
   fs::path out_;
   pid_t pid_ = -1;
+  bool ready_ = false;
 };
 
 // One dumped message: "<timetag> /annex/object sssff... "lamp" "p2" ... 0.123".
@@ -270,10 +326,11 @@ TEST(OscMessages, OneFrameInBundleOrder) {
 }
 
 TEST(OscListener, ReceivesExcludeAndRescanFromOscsend) {
-  const int port = free_udp_port();
-  Result<OscListener> listener = OscListener::open("osc.udp://:" + std::to_string(port));
+  // Port 0: the OS picks a free one, read back from the listener.
+  Result<OscListener> listener = OscListener::open("osc.udp://:0");
   ASSERT_TRUE(listener.ok()) << listener.error().format();
-  EXPECT_EQ(listener->port(), port);
+  const int port = listener->port();
+  ASSERT_GT(port, 0);
   ASSERT_TRUE(oscsend(port, "/annex/exclude", "s p3"));
   ASSERT_TRUE(oscsend(port, "/annex/rescan", ""));
   ASSERT_TRUE(oscsend(port, "/annex/exclude", "i 3"));
@@ -310,8 +367,9 @@ TEST(OscListener, ReceivesExcludeAndRescanFromOscsend) {
 }
 
 TEST(OscStream, ATargetWhereNothingListensIsReportedOnce) {
-  const int closed = free_udp_port();
-  Result<OscStream> stream = OscStream::open({"osc.udp://127.0.0.1:" + std::to_string(closed)});
+  const RefusingUdpPort closed;
+  Result<OscStream> stream =
+      OscStream::open({"osc.udp://127.0.0.1:" + std::to_string(closed.port())});
   ASSERT_TRUE(stream.ok()) << stream.error().format();
   HapticSpec spec;
   std::vector<std::string> problems;
@@ -338,16 +396,13 @@ TEST(OscStream, ATargetWhereNothingListensIsReportedOnce) {
 // frame, names, ids, states and poses equal to poses.txt; a second target where
 // nothing listens is reported once and the run goes on.
 TEST(RunStream, OscdumpSeesTheRecordingFrameByFrame) {
-  const fs::path dir = fs::temp_directory_path() / "annex_test_stream";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const int port = free_udp_port();
-  OscDump dump(port, dir / "dump.txt");
+  const test::TempDir dir("test_stream");
+  OscDump dump(dir / "dump.txt");
   ASSERT_TRUE(dump.started()) << "oscdump (liblo-tools) is not installed";
-  ASSERT_TRUE(dump.wait_ready());
-  const int closed = free_udp_port();
-  const std::string listening = "osc.udp://127.0.0.1:" + std::to_string(port);
-  const std::string nobody = "osc.udp://127.0.0.1:" + std::to_string(closed);
+  ASSERT_TRUE(dump.ready());
+  const RefusingUdpPort closed;
+  const std::string listening = "osc.udp://127.0.0.1:" + std::to_string(dump.port());
+  const std::string nobody = "osc.udp://127.0.0.1:" + std::to_string(closed.port());
   const test::CliRun run = test::run_cli("run " + study() + " --source " + recording() + " --out " +
                                          (dir / "out").string() + " --no-overlays --stream " +
                                          listening + " --stream " + nobody);
@@ -408,7 +463,6 @@ TEST(RunStream, OscdumpSeesTheRecordingFrameByFrame) {
       EXPECT_NEAR(std::stod(d.args[14]), std::stod(votes[p.name]), 0.006) << p.name;
     }
   }
-  fs::remove_all(dir);
 }
 
 // The ids the first scan of the recording gives each virtual object's prop.
@@ -426,8 +480,7 @@ std::map<std::string, std::string> first_matches() {
 TEST(RunStream, ExcludeOnTheCommandLine) {
   const std::map<std::string, std::string> ids = first_matches();
   ASSERT_EQ(ids.count("lamp"), 1u);
-  const fs::path out = fs::temp_directory_path() / "annex_test_exclude_cli";
-  fs::remove_all(out);
+  const test::TempDir out("test_exclude_cli");
   const test::CliRun run =
       test::run_cli("run " + study() + " --source " + recording() + " --out " + out.string() +
                     " --no-overlays --exclude " + ids.at("lamp") + ",p99");
@@ -440,7 +493,6 @@ TEST(RunStream, ExcludeOnTheCommandLine) {
   const std::string poses = slurp(out / "poses.txt");
   EXPECT_EQ(poses.find(" lamp "), std::string::npos);
   EXPECT_EQ(count_of(poses, " champagne_bottle "), 4);
-  fs::remove_all(out);
 
   const test::CliRun bad =
       test::run_cli("run " + study() + " --source " + recording() + " --exclude p1,,p2");
@@ -463,8 +515,7 @@ TEST(RunStream, OscsendExcludesAPropMidRun) {
   const std::map<std::string, std::string> ids = first_matches();
   ASSERT_EQ(ids.count("lamp"), 1u);
   const std::string lamp_prop = ids.at("lamp");
-  const fs::path dir = fs::temp_directory_path() / "annex_test_stream_listen";
-  fs::remove_all(dir);
+  const test::TempDir dir("test_stream_listen");
   fs::create_directories(dir / "frames");
   // 3 s of frames at 30 Hz: the recording forwards, backwards, forwards... (links).
   const std::vector<fs::path> files = [] {
@@ -483,17 +534,27 @@ TEST(RunStream, OscsendExcludesAPropMidRun) {
     std::snprintf(name, sizeof name, "frame_%04d.pcd", k);
     fs::create_symlink(files[static_cast<size_t>(i)], dir / "frames" / name);
   }
-  const int port = free_udp_port(), listen = free_udp_port();
-  OscDump dump(port, dir / "dump.txt");
+  OscDump dump(dir / "dump.txt");
   ASSERT_TRUE(dump.started());
-  ASSERT_TRUE(dump.wait_ready());
+  ASSERT_TRUE(dump.ready());
   const std::string cmd = test::shell_quote(ANNEX_RUNTIME_EXE) + " run " + study() + " --source " +
                           (dir / "frames").string() + " --realtime --out " +
                           (dir / "out").string() +
-                          " --no-overlays --stream osc.udp://127.0.0.1:" + std::to_string(port) +
-                          " --listen osc.udp://:" + std::to_string(listen) + " > " +
+                          " --no-overlays --stream osc.udp://127.0.0.1:" +
+                          std::to_string(dump.port()) + " --listen osc.udp://:0 > " +
                           (dir / "run.txt").string() + " 2>&1";
   std::thread runner([&] { std::system(cmd.c_str()); });
+  // run listens on a port the OS picked and names it first thing.
+  int listen = 0;
+  const std::regex listening(R"(listening for /annex/exclude and /annex/rescan on UDP port (\d+))");
+  for (int i = 0; i < 2400 && listen == 0; ++i) {  // up to a minute
+    std::smatch m;
+    const std::string so_far = slurp(dir / "run.txt");
+    if (std::regex_search(so_far, m, listening)) listen = std::stoi(m[1]);
+    else std::this_thread::sleep_for(25ms);
+  }
+  if (listen == 0) runner.join();
+  ASSERT_GT(listen, 0) << slurp(dir / "run.txt");
   // Once the lamp is streamed on its prop, the game excludes it.
   const std::string first = dump.wait_for("\"" + lamp_prop + "\"", 1);
   EXPECT_NE(first.find("\"lamp\" \"" + lamp_prop + "\""), std::string::npos) << first;
@@ -538,7 +599,6 @@ TEST(RunStream, OscsendExcludesAPropMidRun) {
   EXPECT_EQ(frames, 90);
   EXPECT_TRUE(saw_released);
   EXPECT_TRUE(saw_excluded);
-  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // whose promise the file cannot hold: refused before anything is allocated for it.
 #include "annex/runtime/pcd_io.h"
 #include "annex/reference/pcd_io_pcl_reference.h"
+#include "temp_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -26,20 +27,13 @@ const fs::path kRealDir = fs::path(ANNEX_SHARED_DIR) / "data" / "real";
 
 class PcdIoTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("annex_pcd_io_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
   fs::path write(const std::string& name, const std::string& bytes) {
     const fs::path p = dir_ / name;
     std::ofstream(p, std::ios::binary) << bytes;
     return p;
   }
-  fs::path dir_;
+  const test::TempDir tmp_{"pcd_io"};
+  const fs::path dir_ = tmp_.path();
 };
 
 // Same size, and every point the same bits (NaN pixels are NaN in both).

@@ -18,27 +18,19 @@
 #include <string>
 
 #include "cli_runner.h"
+#include "temp_dir.h"
 
 namespace annex {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh directory per test, removed at the end.
-class TempDir {
+// A fresh directory per test (unique_temp_dir.h), removed at the end.
+class TempDir : public test::TempDir {
  public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() / ("annex_renderer_" + std::string(info->test_suite_name()) +
-                                         "_" + info->name() + "_" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-
- private:
-  fs::path path_;
+  TempDir()
+      : test::TempDir("renderer_" +
+                      std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())) {}
 };
 
 void write_file(const fs::path& path, const std::string& text) {

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
+#include <optional>
 #include <filesystem>
 #include <string>
 
@@ -33,6 +35,26 @@ const AnnexedObject* find_virtual(const FrameReport& r, const std::string& name)
   return nullptr;
 }
 
+// A 22 x 16 x 8 cm box on the table, seen from 0.75 m back and 0.7 m up, drifting along
+// x by `drift_m_per_frame`.
+SyntheticScene box_on_the_table(double drift_m_per_frame) {
+  SyntheticScene scene;
+  scene.camera_position = {0, -0.75, 0.7};
+  scene.camera_tilt_deg = 45;
+  scene.objects.push_back(resting_object(ShapeKind::box, {0.22, 0.16, 0.08}, -0.1, 0));
+  scene.objects.back().velocity_m_per_frame = {drift_m_per_frame, 0, 0};
+  return scene;
+}
+
+// The centre of the top of the frame's one box, from its ground truth.
+Vec3 true_top(const SyntheticFrame& f) {
+  EXPECT_EQ(f.truth.objects.size(), 1u);
+  EXPECT_TRUE(f.truth.support.has_value());
+  if (f.truth.objects.empty() || !f.truth.support) return {};
+  const PhysicalPrimitive& box = f.truth.objects[0].primitives.at(0);
+  return box.center + normalized(f.truth.support->normal) * (box.dimensions_m[2] / 2);
+}
+
 // Where the panel's centre is (its primitive sits at the model's origin).
 Vec3 panel_centre(const HapticSpec& spec, const AnnexedObject& o) {
   return decompose_model_transform(world_from_model(spec, o)).translation;
@@ -45,11 +67,7 @@ bool ends_with(const std::string& s, const std::string& tail) {
 // A box drifting across the table, 8 mm a frame: a panel of its top's size is laid on
 // the top and moves with the box's track, on the face's centre within 2 cm each frame.
 TEST(SessionSurfaces, APanelOnABoxTopMovesWithTheBox) {
-  SyntheticScene scene;
-  scene.camera_position = {0, -0.75, 0.7};
-  scene.camera_tilt_deg = 45;
-  scene.objects.push_back(resting_object(ShapeKind::box, {0.22, 0.16, 0.08}, -0.1, 0));
-  scene.objects.back().velocity_m_per_frame = {0.008, 0, 0};
+  const SyntheticScene scene = box_on_the_table(0.008);
   const HapticSpec spec = panel_spec(0.22, 0.16);
   SessionParams params;
   params.scan_every = 5;
@@ -63,18 +81,110 @@ TEST(SessionSurfaces, APanelOnABoxTopMovesWithTheBox) {
     if (!panel) continue;
     EXPECT_TRUE(ends_with(panel->physical_id, ".top")) << panel->physical_id;
     EXPECT_EQ(panel->carrier, PoseCarrier::track);
-    ASSERT_EQ(f.truth.objects.size(), 1u);
-    ASSERT_TRUE(f.truth.support.has_value());
-    const PhysicalPrimitive& box = f.truth.objects[0].primitives.at(0);
-    const Vec3 top = box.center + normalized(f.truth.support->normal) * (box.dimensions_m[2] / 2);
     const Vec3 at = panel_centre(spec, *panel);
-    EXPECT_LT(norm(at - top), 0.02) << "frame " << k << " state "
+    EXPECT_LT(norm(at - true_top(f)), 0.02) << "frame " << k << " state "
                                     << tracking_state_name(panel->track.state);
     if (annexed_frames++ == 0) first_at = at;
     last_at = at;
   }
   EXPECT_GE(annexed_frames, 20);
   EXPECT_GT(norm(last_at - first_at), 0.12) << "the panel did not follow the box";
+}
+
+// A crate (a box prop) and a panel of its top's size, both annexable: one virtual object
+// takes the box as a prop, the other its top as a panel. The box is tracked once: the
+// panel rides on the crate's track (the same model, the same pose, every frame) and lies
+// on the drifting box's top within 2 cm.
+TEST(SessionSurfaces, ABoxAnnexedAsAPropAndAsAPanelIsTrackedOnce) {
+  const SyntheticScene scene = box_on_the_table(0.008);
+  Result<HapticSpec> spec = parse_haptic(
+      "annex-haptic 1\n"
+      "object crate\n  primitive body box\n    size_x 0.22\n    size_y 0.16\n    size_z 0.08\n"
+      "  end\nend\n"
+      "object panel\n  primitive face plane\n    size_x 0.22\n    size_y 0.16\n  end\nend\n",
+      "crate_and_panel.haptic");
+  ASSERT_TRUE(spec.ok()) << spec.error().format();
+  SessionParams params;
+  params.scan_every = 5;
+  AnnexSession session(*spec, params);
+  int both = 0;
+  Vec3 first_at, last_at;
+  for (int k = 0; k < 25; ++k) {
+    const SyntheticFrame f = render_scene(scene, {}, k);
+    const FrameReport r = session.process(f.frame, k);
+    const AnnexedObject* crate = find_virtual(r, "crate");
+    const AnnexedObject* panel = find_virtual(r, "panel");
+    if (!crate || !panel) {
+      EXPECT_EQ(both, 0) << "frame " << k << ": one of the two was dropped";
+      continue;
+    }
+    EXPECT_EQ(panel->physical_id, crate->physical_id + ".top") << "frame " << k;
+    EXPECT_EQ(crate->carrier, PoseCarrier::track);
+    EXPECT_EQ(panel->carrier, PoseCarrier::prop) << "frame " << k;
+    EXPECT_EQ(panel->track.model.get(), crate->track.model.get()) << "frame " << k;
+    EXPECT_EQ(panel->track.pose, crate->track.pose) << "frame " << k;
+    EXPECT_EQ(panel->track.state, crate->track.state) << "frame " << k;
+    const Vec3 at = panel_centre(*spec, *panel);
+    EXPECT_LT(norm(at - true_top(f)), 0.02) << "frame " << k;
+    if (both++ == 0) first_at = at;
+    last_at = at;
+  }
+  EXPECT_GE(both, 20);
+  EXPECT_GT(norm(last_at - first_at), 0.12) << "the panel did not follow the box";
+
+  // Excluding the crate's box releases the crate and the panel on its top.
+  const FrameReport last = session.process(render_scene(scene, {}, 25).frame, 25);
+  const AnnexedObject* crate = find_virtual(last, "crate");
+  ASSERT_NE(crate, nullptr);
+  const std::string box_id = crate->physical_id;
+  session.exclude(box_id);
+  const FrameReport r = session.process(render_scene(scene, {}, 26).frame, 26);
+  EXPECT_EQ(r.excluded, std::vector<std::string>{box_id});
+  EXPECT_EQ(r.released, (std::vector<std::string>{"crate", "panel"}));
+}
+
+// A box with a panel on its top (no prop of the box annexed) is hidden while it is
+// carried 12 cm away: the face's track of its box goes lost, and the first scan after
+// the box reappears re-anchors it under the same id, as a lost prop is; the panel then
+// lies on the top at its new place within 2 cm.
+TEST(SessionSurfaces, ALostBoxFaceIsReanchoredUnderItsId) {
+  const SyntheticScene scene = box_on_the_table(0);
+  SyntheticScene moved = scene;
+  moved.objects[0].center = moved.objects[0].center + Vec3{0.12, 0, 0};
+  const HapticSpec spec = panel_spec(0.22, 0.16);
+  SessionParams params;
+  params.scan_every = 5;
+  params.camera_motion = false;
+  AnnexSession session(spec, params);
+  std::string id;
+  std::optional<int> reanchored_at;
+  bool went_unseen = false;
+  for (int k = 0; k < 16; ++k) {
+    SyntheticFrame f = render_scene(k < 8 ? scene : moved, {}, k);
+    if (k >= 6 && k < 10)
+      for (size_t i = 0; i < f.labels.size(); ++i)
+        if (f.labels[i] == 0) f.frame.points[i].z = std::numeric_limits<float>::quiet_NaN();
+    const FrameReport r = session.process(f.frame, k);
+    const AnnexedObject* panel = find_virtual(r, "panel");
+    ASSERT_NE(panel, nullptr) << "frame " << k << ": released";
+    if (k == 0) id = panel->physical_id;
+    EXPECT_TRUE(ends_with(id, ".top")) << id;
+    EXPECT_EQ(panel->physical_id, id) << "frame " << k;
+    EXPECT_EQ(panel->carrier, PoseCarrier::track);
+    went_unseen = went_unseen || (k >= 6 && k < 10 && panel->track.state != TrackingState::tracking);
+    if (k > 0 && r.match)
+      EXPECT_TRUE(r.match->voters.empty()) << "frame " << k << ": the panel voted again";
+    if (!reanchored_at &&
+        std::find(r.reanchored.begin(), r.reanchored.end(), "panel") != r.reanchored.end())
+      reanchored_at = k;
+    if (reanchored_at && k > *reanchored_at) {
+      EXPECT_EQ(panel->track.state, TrackingState::tracking) << "frame " << k;
+      EXPECT_LT(norm(panel_centre(spec, *panel) - true_top(f)), 0.02) << "frame " << k;
+    }
+  }
+  EXPECT_TRUE(went_unseen) << "the hidden box was tracked: nothing to re-anchor";
+  ASSERT_TRUE(reanchored_at.has_value());
+  EXPECT_EQ(*reanchored_at, 10);  // the first scan after it reappeared
 }
 
 // A head turning and stepping: the table's free region, with no tracker of its own,

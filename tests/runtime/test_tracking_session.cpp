@@ -16,6 +16,7 @@
 #include "annex/runtime/pcd_io.h"
 #include "annex/runtime/synthetic_scene.h"
 #include "cli_runner.h"
+#include "temp_dir.h"
 #include "session_fixture.h"
 #include "tracking_test_util.h"
 
@@ -243,8 +244,7 @@ TEST(ModelPose, FormatsTheFittedModelTransform) {
 TEST(RunCommand, WritesPosesAndMatches) {
   const SyntheticScene scene =
       make_scene(33, {ShapeKind::cylinder, ShapeKind::sphere, ShapeKind::box}, 3);
-  const auto dir = std::filesystem::temp_directory_path() / "annex_test_run";
-  std::filesystem::remove_all(dir);
+  const test::TempDir dir("test_run");
   std::filesystem::create_directories(dir / "frames");
   for (int k = 0; k < 4; ++k) {
     char name[32];
@@ -273,13 +273,11 @@ TEST(RunCommand, WritesPosesAndMatches) {
   all << matches.rdbuf();
   EXPECT_NE(all.str().find("frame 0"), std::string::npos);
   EXPECT_NE(all.str().find("match v1 "), std::string::npos) << all.str();
-  std::filesystem::remove_all(dir);
 }
 
 // The README's main job: the study's objects on the bundled recording.
 TEST(RunCommand, AnnexesTheBundledRecording) {
-  const auto out = std::filesystem::temp_directory_path() / "annex_test_run_bundled";
-  std::filesystem::remove_all(out);
+  const test::TempDir out("test_run_bundled");
   const test::CliRun run =
       test::run_cli("run " + test::source_path("samples/specs/study.haptic") + " --source " +
                     test::source_path("samples/recordings/tabletop") + " --out " + out.string() +
@@ -305,7 +303,6 @@ TEST(RunCommand, AnnexesTheBundledRecording) {
   }
   EXPECT_EQ(lines, 8);  // 4 frames x 2 objects
   EXPECT_EQ(tracking, 8);
-  std::filesystem::remove_all(out);
 }
 
 TEST(RunCommand, RejectsAMissingSource) {

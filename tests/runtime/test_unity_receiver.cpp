@@ -3,10 +3,6 @@
 // `run` streams the bundled recording: every virtual object ends where poses.txt puts
 // it, converted to Unity's left-handed, y-up frame. Skipped when Mono is not installed.
 #include <gtest/gtest.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,23 +12,12 @@
 #include <sstream>
 
 #include "cli_runner.h"
+#include "temp_dir.h"
 
 namespace annex {
 namespace {
 
 namespace fs = std::filesystem;
-
-int free_udp_port() {
-  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  close(fd);
-  return ntohs(a.sin_port);
-}
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p);
@@ -55,9 +40,7 @@ std::vector<double> numbers(const std::string& csv) {
 
 TEST(UnityReceiver, PlacesTheObjectsWherePosesTxtSays) {
   if (!have("mcs") || !have("mono")) GTEST_SKIP() << "Mono (mono-mcs, mono-runtime) not installed";
-  const fs::path dir = fs::temp_directory_path() / "annex_test_unity";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const test::TempDir dir("test_unity");
   // The script exactly as the documentation prints it.
   const std::string doc = slurp(test::source_path("docs/streaming.md"));
   const size_t start = doc.find("```csharp\n");
@@ -72,14 +55,16 @@ TEST(UnityReceiver, PlacesTheObjectsWherePosesTxtSays) {
   ASSERT_EQ(std::system((compile + " > " + (dir / "mcs.txt").string()).c_str()), 0)
       << slurp(dir / "mcs.txt");
 
-  const int port = free_udp_port();
-  const std::string receiver = "mono " + (dir / "receiver.exe").string() + " " +
-                               std::to_string(port) + " 3 champagne_bottle lamp 2>&1";
+  // Port 0: the receiver binds one the OS picks and names it.
+  const std::string receiver =
+      "mono " + (dir / "receiver.exe").string() + " 0 3 champagne_bottle lamp 2>&1";
   FILE* pipe = popen(receiver.c_str(), "r");
   ASSERT_NE(pipe, nullptr);
   char line[512];
   ASSERT_NE(fgets(line, sizeof line, pipe), nullptr);
-  ASSERT_EQ(std::string(line), "listening\n");
+  std::cmatch listening;
+  ASSERT_TRUE(std::regex_match(line, listening, std::regex("listening ([1-9][0-9]*)\n"))) << line;
+  const int port = std::stoi(listening[1]);
   const test::CliRun run = test::run_cli(
       "run " + test::source_path("samples/specs/study.haptic") + " --source " +
       test::source_path("samples/recordings/tabletop") + " --out " + (dir / "out").string() +
@@ -127,7 +112,6 @@ TEST(UnityReceiver, PlacesTheObjectsWherePosesTxtSays) {
     ++seen;
   }
   EXPECT_EQ(seen, 2) << output;
-  fs::remove_all(dir);
 }
 
 }  // namespace

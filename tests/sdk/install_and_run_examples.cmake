@@ -3,7 +3,8 @@
 # Annex), checks that the programs link no PCL, VTK, CGAL or OpenNI2 themselves, that
 # pkg-config finds the C API, and that the installed Python module imports.
 # Arguments (-D): BUILD_DIR SOURCE_DIR WORK_DIR C_COMPILER CXX_COMPILER PYTHON PROJECT_VERSION
-# LINK_FLAGS and PRELOAD (the sanitizer runtime under ANNEX_SANITIZE).
+# LINK_FLAGS, COMPILE_FLAGS and PRELOAD (the sanitizer's flags and runtime under
+# ANNEX_SANITIZE: the examples are then instrumented too, and run under the sanitizer).
 cmake_minimum_required(VERSION 3.25)
 
 function(run)
@@ -43,8 +44,24 @@ endforeach()
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples -B ${WORK_DIR}/build -G Ninja
     -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER=${C_COMPILER} -DCMAKE_CXX_COMPILER=${CXX_COMPILER}
     -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF
+    "-DCMAKE_C_FLAGS=${COMPILE_FLAGS}" "-DCMAKE_CXX_FLAGS=${COMPILE_FLAGS}"
     "-DCMAKE_EXE_LINKER_FLAGS=${LINK_FLAGS}")
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
+# Under a sanitizer: the examples' own code is instrumented (its checks are in them); a
+# report stops a program with a non-zero status (and leaks are checked at exit), which
+# fails the runs below.
+if(COMPILE_FLAGS)
+  foreach(exe annex_example_c annex_example_cpp)
+    run(readelf --syms --wide ${WORK_DIR}/build/${exe})
+    foreach(check __asan_report_load __ubsan_handle)
+      string(FIND "${run_output}" "${check}" at)
+      if(at EQUAL -1)
+        message(FATAL_ERROR "${exe} is not instrumented (no ${check}*): COMPILE_FLAGS not applied")
+      endif()
+    endforeach()
+  endforeach()
+  message(STATUS "examples instrumented with: ${COMPILE_FLAGS}")
+endif()
 
 # The programs need libannex_c / libannex, none of the libraries inside them.
 foreach(exe annex_example_c annex_example_cpp)
@@ -83,7 +100,8 @@ endif()
 run(pkg-config --cflags --libs annex)
 separate_arguments(pc_flags UNIX_COMMAND "${run_output}")
 separate_arguments(extra_link UNIX_COMMAND "${LINK_FLAGS}")
-run(${C_COMPILER} -std=c11 ${SOURCE_DIR}/examples/annex_example.c ${pc_flags} ${extra_link}
+separate_arguments(extra_compile UNIX_COMMAND "${COMPILE_FLAGS}")
+run(${C_COMPILER} -std=c11 ${extra_compile} ${SOURCE_DIR}/examples/annex_example.c ${pc_flags} ${extra_link}
     -Wl,-rpath,${prefix}/lib -o ${WORK_DIR}/annex_example_pkgconfig)
 run(${WORK_DIR}/annex_example_pkgconfig ${spec} ${frames})
 expect("frame 3 lamp on p" "pkg-config build of the C example")

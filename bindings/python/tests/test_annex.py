@@ -33,9 +33,10 @@ def test_load_pcd_gives_an_organized_float32_array():
     assert 0.3 < np.median(points[..., 2][valid]) < 3.0  # metres
 
 
-def test_load_pcd_error_names_the_file():
+def test_load_pcd_error_names_the_file(tmp_path):
+    # A missing file in pytest's own temporary folder (never one another run creates).
     with pytest.raises(annex.Error, match="no_such_frame.pcd"):
-        annex.load_pcd("/tmp/no_such_frame.pcd")
+        annex.load_pcd(str(tmp_path / "no_such_frame.pcd"))
 
 
 def test_scan_finds_the_three_props():
@@ -56,13 +57,13 @@ def test_scan_finds_the_three_props():
         assert o.primitives[0].shape == o.shape
 
 
-def test_scan_rejects_bad_arrays_and_configs():
+def test_scan_rejects_bad_arrays_and_configs(tmp_path):
     with pytest.raises(ValueError, match=r"\(H, W, 3\)"):
         annex.scan(np.zeros((10, 3), dtype=np.float32))
     with pytest.raises(annex.Error, match="no plane|support|valid"):
         annex.scan(np.full((48, 64, 3), np.nan, dtype=np.float32))
     with pytest.raises(annex.Error, match="nope.conf"):
-        annex.scan(np.zeros((4, 4, 3), dtype=np.float32), config="/tmp/nope.conf")
+        annex.scan(np.zeros((4, 4, 3), dtype=np.float32), config=str(tmp_path / "nope.conf"))
 
 
 def test_specs_read_and_errors_carry_line_and_column():

@@ -1,5 +1,6 @@
-// Runs docs/streaming.md's AnnexReceiver outside Unity: binds it to the given port with
-// three bound objects, calls Update as Unity would until frame `last` arrived (or 60 s
+// Runs docs/streaming.md's AnnexReceiver outside Unity: binds it to the given port (0: one
+// the OS picks, printed as "listening <port>" so that concurrent runs never share one) with
+// the bound objects, calls Update as Unity would until frame `last` arrived (or 60 s
 // passed), then prints each object's state:
 //   object <name> active=<0|1> p=x,y,z q=x,y,z,w s=x,y,z
 using System;
@@ -29,7 +30,10 @@ public static class ReceiverDriver
             receiver.objects.Add(new AnnexReceiver.VirtualObjectBinding { virtualName = args[i], target = new GameObject(args[i]) });
         }
         Call(receiver, "OnEnable");
-        Console.WriteLine("listening");
+        var socket = (System.Net.Sockets.UdpClient)receiver.GetType()
+            .GetField("socket", BindingFlags.Instance | BindingFlags.NonPublic | BindingFlags.Public)
+            .GetValue(receiver);
+        Console.WriteLine("listening " + ((System.Net.IPEndPoint)socket.Client.LocalEndPoint).Port);
         Console.Out.Flush();
         var deadline = DateTime.UtcNow.AddSeconds(60);
         while (receiver.LastFrame < last && DateTime.UtcNow < deadline)

@@ -62,10 +62,12 @@ struct SessionParams {
 };
 
 // What carries an annexed object's pose from frame to frame. track: its own PoseTracker
-// (every prop; a box's face rides on the tracked box). room: a support's free region,
-// static in the room, moved only by the camera's motion (no tracker; state held while
-// the camera's motion is unknown, lost when a scan finds the region taken).
-enum class PoseCarrier { track, room };
+// (every prop; a box's face rides on a track of its box). prop: a box's face whose box
+// is annexed as a prop too (another virtual object): the face rides on that prop's
+// track, a copy of it each frame, so one physical box has one tracker. room: a support's
+// free region, static in the room, moved only by the camera's motion (no tracker; state
+// held while the camera's motion is unknown, lost when a scan finds the region taken).
+enum class PoseCarrier { track, room, prop };
 
 // A virtual object annexed to a prop and the state of its tracking.
 struct AnnexedObject {
@@ -196,6 +198,7 @@ class AnnexSession {
   bool rescan_ = false;
   bool spec_has_plane_ = false;  // some virtual object has a plane: scans match surfaces
   void apply_exclude_requests(FrameReport& report);
+  void ride_faces_on_props();
   std::optional<AnnexedObject> annex_surface(int virtual_index, const Primitive& vp,
                                              int virtual_primitive, double vote,
                                              const PhysicalScene& scene, size_t j,
