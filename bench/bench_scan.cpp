@@ -8,11 +8,12 @@
 //   world     the widened generator: class, size, support and cone direction per
 //             distance band, a confusion matrix per shape, false props and slivers.
 // Usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N]
-//        [--skip-pcl] [--world-only] [--speed-only] [--verbose] [--png-dir DIR]
+//        [--world-seed FIRST] [--skip-pcl] [--world-only] [--speed-only] [--verbose] [--png-dir DIR]
 //        (--repeat: our scans per frame, 30; --pcl-repeat: PCL's, interleaved with ours,
 //        default max(5, repeat / 3); --threads: our worker threads, 2; --speed-only: the
 //        speed section alone, e.g. under callgrind; --verbose: every world-set miss,
-//        misclassification, leg and sliver; --png-dir: the world scenes' pictures, frames)
+//        misclassification, leg and sliver; --png-dir: the world scenes' pictures, frames;
+//        --world-seed: the world set's first seed, 2001: the tuned set; 5001: held out)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -288,7 +289,9 @@ std::string truth_class(const PhysicalPrimitive& p) {
   return name;
 }
 
-void world_set(int scenes, bool verbose, const std::string& png_dir) {
+// `first_seed`: the first scene's seed (2001, the set the scanner was tuned on; any
+// other start is a held-out set).
+void world_set(int scenes, int first_seed, bool verbose, const std::string& png_dir) {
   const char* bands[] = {"< 1.5 m", "1.5-2.5 m", "> 2.5 m"};
   BandTally tally[3];
   std::map<std::string, std::map<std::string, int>> confusion;
@@ -296,9 +299,10 @@ void world_set(int scenes, bool verbose, const std::string& png_dir) {
       cut_objects = 0, fragments = 0, scans = 0, failures = 0;
   std::vector<double> scan_ms;
   for (int k = 1; k <= scenes; ++k) {
-    const Result<SyntheticScene> scene = generate_scene(world_scene_params(2000 + k));
+    const int seed = first_seed + k - 1;
+    const Result<SyntheticScene> scene = generate_scene(world_scene_params(static_cast<std::uint64_t>(seed)));
     if (!scene) {
-      std::printf("  seed %d: %s\n", 2000 + k, scene.error().format().c_str());
+      std::printf("  seed %d: %s\n", seed, scene.error().format().c_str());
       continue;
     }
     const SyntheticFrame f = render_scene(*scene);
@@ -309,9 +313,9 @@ void world_set(int scenes, bool verbose, const std::string& png_dir) {
     if (!scan) ++failures;
     if (!png_dir.empty() && scan) {
       std::filesystem::create_directories(png_dir);
-      const std::string name = png_dir + "/world_" + std::to_string(2000 + k) + ".png";
+      const std::string name = png_dir + "/world_" + std::to_string(seed) + ".png";
       if (!write_png(name, draw_scan_overlay(f.frame, *scan)) ||
-          !write_pcd(png_dir + "/world_" + std::to_string(2000 + k) + ".pcd", f.frame))
+          !write_pcd(png_dir + "/world_" + std::to_string(seed) + ".pcd", f.frame))
         std::printf("  cannot write %s or its .pcd\n", name.c_str());
     }
     // Majority label of each scanned object.
@@ -333,7 +337,7 @@ void world_set(int scenes, bool verbose, const std::string& png_dir) {
         false_legs += owner[k2] == kLabelLeg;
         false_furniture += owner[k2] == kLabelFurniture;
         if (verbose)
-          std::printf("  seed %d %s: %s reported whole (%s, %d points)\n", 2000 + k, o.id.c_str(),
+          std::printf("  seed %d %s: %s reported whole (%s, %d points)\n", seed, o.id.c_str(),
                       owner[k2] == kLabelLeg ? "leg" : owner[k2] == kLabelFurniture ? "furniture" : "background",
                       o.primitives.empty() ? "unknown" : std::string(shape_name(o.primitives[0].kind)).c_str(),
                       o.point_count);
@@ -341,7 +345,7 @@ void world_set(int scenes, bool verbose, const std::string& png_dir) {
         partial_flagged += o.partial;
         slivers += !o.partial;
         if (verbose && !o.partial)
-          std::printf("  seed %d %s: border sliver reported whole (%d points)\n", 2000 + k, o.id.c_str(),
+          std::printf("  seed %d %s: border sliver reported whole (%d points)\n", seed, o.id.c_str(),
                       o.point_count);
       }
     }
@@ -370,7 +374,7 @@ void world_set(int scenes, bool verbose, const std::string& png_dir) {
       if (pick < 0) {
         ++confusion[row]["missed"];
         if (verbose)
-          std::printf("  seed %d truth %zu %s at %.2f m: missed\n", 2000 + k, t, row.c_str(), dist);
+          std::printf("  seed %d truth %zu %s at %.2f m: missed\n", seed, t, row.c_str(), dist);
         continue;
       }
       ++b.found;
@@ -387,7 +391,7 @@ void world_set(int scenes, bool verbose, const std::string& png_dir) {
       const std::string col = o.primitives.empty() ? "unknown" : std::string(shape_name(o.primitives[0].kind));
       ++confusion[row][col];
       if (verbose && (o.primitives.empty() || o.primitives[0].kind != tp.kind)) {
-        std::printf("  seed %d %s truth %s [", 2000 + k, o.id.c_str(), row.c_str());
+        std::printf("  seed %d %s truth %s [", seed, o.id.c_str(), row.c_str());
         for (double d : tp.dimensions_m) std::printf(" %.3f", d);
         const auto& won = scan->clusters[static_cast<size_t>(pick)].shape.primitives;
         std::printf(" ] at %.2f m, %d points, partial=%d -> %s (cov %.2f rms %.1f); candidates:", dist,
@@ -413,9 +417,9 @@ void world_set(int scenes, bool verbose, const std::string& png_dir) {
       for (size_t i = 0; i < a.size() && i < g.size(); ++i) b.errors.push_back(std::abs(a[i] - g[i]));
     }
   }
-  std::printf("world set: %d generated scenes (seeds 2001-%d, world_scene_params), %d scans "
+  std::printf("world set: %d generated scenes (seeds %d-%d, world_scene_params), %d scans "
               "failed, scan median_ms=%.1f\n",
-              scans, 2000 + scenes, failures, median(scan_ms));
+              scans, first_seed, first_seed + scenes - 1, failures, median(scan_ms));
   std::printf("  %-10s %7s %6s %8s %10s %10s %9s %9s\n", "band", "objects", "found", "class",
               "median_mm", "p90_mm", "support", "cone_dir");
   for (int i = 0; i < 3; ++i) {
@@ -474,7 +478,7 @@ void real_clusters(const Frame& frame) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int repeat = 30, scenes = 100, world = 60, pcl_repeat = -1, threads = ScanParams{}.threads;
+  int repeat = 30, scenes = 100, world = 60, world_seed = 2001, pcl_repeat = -1, threads = ScanParams{}.threads;
   bool pcl = true, world_only = false, speed_only = false, verbose = false;
   std::string png_dir;
   for (int i = 1; i < argc; ++i) {
@@ -482,6 +486,7 @@ int main(int argc, char** argv) {
     if (a == "--repeat" && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
     else if (a == "--scenes" && i + 1 < argc) scenes = std::max(1, std::atoi(argv[++i]));
     else if (a == "--world" && i + 1 < argc) world = std::max(0, std::atoi(argv[++i]));
+    else if (a == "--world-seed" && i + 1 < argc) world_seed = std::atoi(argv[++i]);
     else if (a == "--pcl-repeat" && i + 1 < argc) pcl_repeat = std::max(1, std::atoi(argv[++i]));
     else if (a == "--threads" && i + 1 < argc) threads = std::max(1, std::atoi(argv[++i]));
     else if (a == "--speed-only") speed_only = true;
@@ -490,12 +495,12 @@ int main(int argc, char** argv) {
     else if (a == "--verbose") verbose = true;
     else if (a == "--png-dir" && i + 1 < argc) png_dir = argv[++i];
     else {
-      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N] [--skip-pcl] [--world-only] [--speed-only] [--verbose] [--png-dir DIR]\n");
+      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N] [--world-seed FIRST] [--skip-pcl] [--world-only] [--speed-only] [--verbose] [--png-dir DIR]\n");
       return 2;
     }
   }
   if (world_only) {
-    world_set(world, verbose, png_dir);
+    world_set(world, world_seed, verbose, png_dir);
     return 0;
   }
   const std::filesystem::path real =
@@ -512,7 +517,7 @@ int main(int argc, char** argv) {
   else std::printf("speed: ../shared/data/real absent, real frame skipped\n");
   if (speed_only) return 0;
   speed(synthetic(7).frame, "generated scene seed 7", repeat, pcl_repeat, threads);
-  if (world > 0) world_set(world, verbose, png_dir);
+  if (world > 0) world_set(world, world_seed, verbose, png_dir);
   accuracy_and_ransac(scenes, std::min(scenes, 30));
   if (real_frame) real_clusters(*real_frame);
   return 0;

@@ -784,99 +784,24 @@ Vec3 effective_up(const ScanParams& params) {
                          u.y * std::sin(t) + u.z * std::cos(t)});
 }
 
-void order_and_name_objects(ScanResult& result) {
-  // Mean x/z and y/z are the image column and row up to the intrinsics.
-  const size_t n = result.clusters.size();
-  std::vector<size_t> order(n);
-  std::iota(order.begin(), order.end(), 0);
-  std::vector<double> col(n, 0), row(n, 0);
-  for (size_t k = 0; k < n; ++k) {
-    const auto& pts = result.clusters[k].points;
-    for (const Vec3& p : pts) {
-      col[k] += p.x / p.z;
-      row[k] += p.y / p.z;
-    }
-    if (!pts.empty()) {
-      col[k] /= static_cast<double>(pts.size());
-      row[k] /= static_cast<double>(pts.size());
-    }
-  }
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    return col[a] != col[b] ? col[a] < col[b] : row[a] < row[b];
-  });
-  std::vector<ScanCluster> clusters;
-  std::vector<PhysicalObject> objects;
-  for (size_t k : order) {
-    clusters.push_back(std::move(result.clusters[k]));
-    objects.push_back(std::move(result.scene.objects[k]));
-  }
-  for (size_t k = 0; k < objects.size(); ++k) objects[k].id = std::to_string(k + 1).insert(0, 1, 'p');
-  // An object standing on another one names it by its new index and id.
-  std::vector<int> new_index(n, -1);
-  for (size_t k = 0; k < n; ++k) new_index[order[k]] = static_cast<int>(k);
-  for (size_t k = 0; k < n; ++k) {
-    int& below = clusters[k].on_object;
-    below = below >= 0 && below < static_cast<int>(n) ? new_index[static_cast<size_t>(below)] : -1;
-    objects[k].on_object = below >= 0 ? objects[static_cast<size_t>(below)].id : std::string();
-  }
-  result.clusters = std::move(clusters);
-  result.scene.objects = std::move(objects);
-}
+// A support found by the plane stage: its plane, its kept regions, their points (full
+// resolution) and, once the scan grows it, its hull.
+struct Found {
+  PlaneFit plane;
+  Hull2 hull;
+  PlaneRegions regions;
+  int points = 0;
+};
 
-Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
-  // Parameters set in code are checked like a config file's (params_validation.h).
-  if (Status s = validate_scan_params(params); !s) return s.error();
-  if (input.width <= 0 || input.height <= 0 ||
-      input.points.size() != static_cast<size_t>(input.width) * input.height)
-    return Error{"frame size " + std::to_string(input.width) + "x" + std::to_string(input.height) +
-                     " does not match its " + std::to_string(input.points.size()) + " points",
-                 {"frame " + std::to_string(input.index), 0, 0}};
-  const Frame reorganized = input.organized() ? Frame{} : organize(input);
-  const Frame& f = input.organized() ? input : reorganized;
-  const Location where{"frame " + std::to_string(input.index), 0, 0};
-  ScanResult result;
-  std::mt19937_64 rng(params.shape.seed);
-  const Vec3 up = effective_up(params);
-
-  auto t0 = Clock::now();
+// Every support: planes extracted one after another, each one's inliers leaving the
+// search. A plane counts when its kept regions hold min_plane_points. Kept out of line
+// so the plane stage shows on its own in a profile.
+[[gnu::noinline]] std::vector<Found> find_supports(const Frame& f, const ScanParams& params,
+                                                   const std::vector<int>& strided,
+                                                   const std::vector<GridCell>& strided_cells,
+                                                   Vec3 up, std::mt19937_64& rng) {
   const int stride = std::max(1, params.pixel_stride);
-  std::vector<int> strided;
-  std::vector<GridCell> strided_cells;  // each strided pixel's grid cell
-  // Valid strided pixels per grid row and column (the image border below).
-  const int gw = (f.width + stride - 1) / stride, gh = (f.height + stride - 1) / stride;
-  std::vector<int> valid_rows(static_cast<size_t>(gh), 0), valid_cols(static_cast<size_t>(gw), 0);
-  for (int y = 0, gy = 0; y < f.height; y += stride, ++gy)
-    for (int x = 0, gx = 0; x < f.width; x += stride, ++gx) {
-      const int i = y * f.width + x;
-      if (valid(f.points[i]) && f.points[i].z <= params.max_depth_m) {
-        strided.push_back(i);
-        strided_cells.push_back({gx, gy});
-        ++valid_rows[static_cast<size_t>(gy)];
-        ++valid_cols[static_cast<size_t>(gx)];
-      }
-    }
-  if (strided.size() < 50) {
-    // Valid points that all lie beyond the range are most often a cloud in millimetres.
-    std::vector<float> far;
-    for (size_t i = 0; i < f.points.size(); i += 97)
-      if (valid(f.points[i])) far.push_back(f.points[i].z);
-    if (far.size() < 10) return Error{"the frame has no valid depth points", where};
-    std::nth_element(far.begin(), far.begin() + far.size() / 2, far.end());
-    const double median = far[far.size() / 2];
-    char text[160];
-    std::snprintf(text, sizeof text, "no depth within max_depth_m (%g m): the median depth is %g%s",
-                  params.max_depth_m, median,
-                  median > 50 ? "; Annex expects metres (is this cloud in millimetres?)" : "");
-    return Error{text, where};
-  }
-  // Every support: planes extracted one after another, each one's inliers leaving the
-  // search. A plane counts when its kept regions hold min_plane_points.
-  struct Found {
-    PlaneFit plane;
-    Hull2 hull;
-    PlaneRegions regions;
-    int points = 0;
-  };
+  const double cos_tilt = std::cos(params.max_support_tilt_deg * 3.14159265358979 / 180.0);
   std::vector<Found> found;
   std::vector<char> free(f.points.size(), 0);
   for (int i : strided) free[i] = 1;
@@ -886,7 +811,6 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   pool_pts.reserve(pool.size());
   for (int i : pool) pool_pts.push_back(to_vec(f.points[i]));
   const int min_region = std::max(1, params.min_plane_points / (4 * stride * stride));
-  const double cos_tilt = std::cos(params.max_support_tilt_deg * 3.14159265358979 / 180.0);
   std::vector<std::pair<PlaneFit, std::vector<PlaneRegions>>> planes;
   std::vector<int> inliers;
   std::vector<GridCell> inlier_cells;
@@ -978,6 +902,96 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
       found.push_back(std::move(fd));
     }
   }
+  return found;
+}
+
+void order_and_name_objects(ScanResult& result) {
+  // Mean x/z and y/z are the image column and row up to the intrinsics.
+  const size_t n = result.clusters.size();
+  std::vector<size_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::vector<double> col(n, 0), row(n, 0);
+  for (size_t k = 0; k < n; ++k) {
+    const auto& pts = result.clusters[k].points;
+    for (const Vec3& p : pts) {
+      col[k] += p.x / p.z;
+      row[k] += p.y / p.z;
+    }
+    if (!pts.empty()) {
+      col[k] /= static_cast<double>(pts.size());
+      row[k] /= static_cast<double>(pts.size());
+    }
+  }
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return col[a] != col[b] ? col[a] < col[b] : row[a] < row[b];
+  });
+  std::vector<ScanCluster> clusters;
+  std::vector<PhysicalObject> objects;
+  for (size_t k : order) {
+    clusters.push_back(std::move(result.clusters[k]));
+    objects.push_back(std::move(result.scene.objects[k]));
+  }
+  for (size_t k = 0; k < objects.size(); ++k) objects[k].id = std::to_string(k + 1).insert(0, 1, 'p');
+  // An object standing on another one names it by its new index and id.
+  std::vector<int> new_index(n, -1);
+  for (size_t k = 0; k < n; ++k) new_index[order[k]] = static_cast<int>(k);
+  for (size_t k = 0; k < n; ++k) {
+    int& below = clusters[k].on_object;
+    below = below >= 0 && below < static_cast<int>(n) ? new_index[static_cast<size_t>(below)] : -1;
+    objects[k].on_object = below >= 0 ? objects[static_cast<size_t>(below)].id : std::string();
+  }
+  result.clusters = std::move(clusters);
+  result.scene.objects = std::move(objects);
+}
+
+Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
+  // Parameters set in code are checked like a config file's (params_validation.h).
+  if (Status s = validate_scan_params(params); !s) return s.error();
+  if (input.width <= 0 || input.height <= 0 ||
+      input.points.size() != static_cast<size_t>(input.width) * input.height)
+    return Error{"frame size " + std::to_string(input.width) + "x" + std::to_string(input.height) +
+                     " does not match its " + std::to_string(input.points.size()) + " points",
+                 {"frame " + std::to_string(input.index), 0, 0}};
+  const Frame reorganized = input.organized() ? Frame{} : organize(input);
+  const Frame& f = input.organized() ? input : reorganized;
+  const Location where{"frame " + std::to_string(input.index), 0, 0};
+  ScanResult result;
+  std::mt19937_64 rng(params.shape.seed);
+  const Vec3 up = effective_up(params);
+
+  auto t0 = Clock::now();
+  const int stride = std::max(1, params.pixel_stride);
+  std::vector<int> strided;
+  std::vector<GridCell> strided_cells;  // each strided pixel's grid cell
+  // Valid strided pixels per grid row and column (the image border below).
+  const int gw = (f.width + stride - 1) / stride, gh = (f.height + stride - 1) / stride;
+  std::vector<int> valid_rows(static_cast<size_t>(gh), 0), valid_cols(static_cast<size_t>(gw), 0);
+  for (int y = 0, gy = 0; y < f.height; y += stride, ++gy)
+    for (int x = 0, gx = 0; x < f.width; x += stride, ++gx) {
+      const int i = y * f.width + x;
+      if (valid(f.points[i]) && f.points[i].z <= params.max_depth_m) {
+        strided.push_back(i);
+        strided_cells.push_back({gx, gy});
+        ++valid_rows[static_cast<size_t>(gy)];
+        ++valid_cols[static_cast<size_t>(gx)];
+      }
+    }
+  if (strided.size() < 50) {
+    // Valid points that all lie beyond the range are most often a cloud in millimetres.
+    std::vector<float> far;
+    for (size_t i = 0; i < f.points.size(); i += 97)
+      if (valid(f.points[i])) far.push_back(f.points[i].z);
+    if (far.size() < 10) return Error{"the frame has no valid depth points", where};
+    std::nth_element(far.begin(), far.begin() + far.size() / 2, far.end());
+    const double median = far[far.size() / 2];
+    char text[160];
+    std::snprintf(text, sizeof text, "no depth within max_depth_m (%g m): the median depth is %g%s",
+                  params.max_depth_m, median,
+                  median > 50 ? "; Annex expects metres (is this cloud in millimetres?)" : "");
+    return Error{text, where};
+  }
+  std::vector<Found> found = find_supports(f, params, strided, strided_cells, up, rng);
+  const double cos_tilt = std::cos(params.max_support_tilt_deg * 3.14159265358979 / 180.0);
   if (found.empty())
     return Error{"no horizontal plane found (support must be within " +
                      std::to_string(static_cast<int>(params.max_plane_angle_deg)) +
