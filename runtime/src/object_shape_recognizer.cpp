@@ -647,9 +647,88 @@ std::vector<std::array<double, 2>> hull_2d(std::vector<std::array<double, 2>> pt
   return h;
 }
 
+// A box's azimuth from its side faces' points, fused with the side normals' estimate by
+// their noise. Each side point belongs to the face its normal faces (faces parted at the
+// footprint's middle), a face is a line in the footprint at its points' median offset,
+// and Gauss-Newton turns the lines to fit the points (points off by more than their
+// tolerance, an edge or a neighbour, do not steer). The lines fix the direction over the
+// faces' whole length (two pieces of one box seen past a nearer object lie on one line);
+// the normals' mean is biased on a small piece and noisy far away, but the lines are
+// noisy too. Each estimate's variance: the normals' spread of 4x azimuth over 16 n, the
+// lines' residual variance over the sum of squared positions along them (a slope's);
+// the result is their inverse-variance mean (both sets of points share the smoothing, so
+// its correlation scales both variances alike).
+double refine_box_theta(const Samples& s, const std::vector<int>& sides, double theta_normals) {
+  // The normals' estimate and its variance.
+  double var_normals = 0;
+  for (int i : sides) {
+    const double d = std::remainder(4 * (std::atan2(s.nb[i], s.na[i]) - theta_normals), 2 * kPi);
+    var_normals += d * d;
+  }
+  var_normals /= 16.0 * static_cast<double>(sides.size()) * static_cast<double>(sides.size());
+  double theta = theta_normals, var_lines = -1;
+  for (int iter = 0; iter < 6; ++iter) {
+    const double cs = std::cos(theta), sn = std::sin(theta);
+    std::vector<double> ax, ay;
+    for (const Local& p : s.p) {
+      ax.push_back(cs * p.a + sn * p.b);
+      ay.push_back(-sn * p.a + cs * p.b);
+    }
+    const double xm = (quantile(ax, 0.005) + quantile(ax, 0.995)) / 2;
+    const double ym = (quantile(ay, 0.005) + quantile(ay, 0.995)) / 2;
+    // Per face (-x, +x, -y, +y): the offset, the position along it, the tolerance.
+    std::vector<std::array<double, 3>> face[4];
+    for (int i : sides) {
+      const double x = ax[i], y = ay[i];
+      const double nx = cs * s.na[i] + sn * s.nb[i], ny = -sn * s.na[i] + cs * s.nb[i];
+      const double nh = len2(nx, ny);
+      if (nh < 1e-6) continue;
+      if (nx < -0.9 * nh && x < xm) face[0].push_back({x, y, s.tol[i]});
+      if (nx > 0.9 * nh && x > xm) face[1].push_back({x, y, s.tol[i]});
+      if (ny < -0.9 * nh && y < ym) face[2].push_back({y, -x, s.tol[i]});
+      if (ny > 0.9 * nh && y > ym) face[3].push_back({y, -x, s.tol[i]});
+    }
+    double jj = 0, jr = 0, rr = 0;
+    int m = 0;
+    for (auto& f : face) {
+      if (f.size() < 20) continue;
+      std::vector<double> off;
+      for (const auto& q : f) off.push_back(q[0]);
+      const double d = quantile(off, 0.5);
+      double sg = 0, sr = 0, w = 0;
+      std::vector<std::array<double, 2>> in;
+      for (const auto& q : f)
+        if (std::abs(q[0] - d) < q[2]) {
+          in.push_back({q[1], q[0] - d});
+          sg += q[1];
+          sr += q[0] - d;
+          w += 1;
+        }
+      if (w < 20) continue;
+      for (const auto& q : in) {
+        const double g = q[0] - sg / w, r = q[1] - sr / w;
+        jj += g * g;
+        jr += g * r;
+        rr += r * r;
+        ++m;
+      }
+    }
+    // Too short a face (under about 2 cm of spread) does not fix a direction.
+    if (jj < 20 * 0.01 * 0.01 || m < 3) return theta_normals;
+    const double step = std::clamp(-jr / jj, -0.05, 0.05);
+    theta += step;
+    // The lines' residual after the step, over the positions' spread: a slope's variance.
+    var_lines = std::max(rr - jr * jr / jj, 0.0) / (m - 2) / jj;
+    if (std::abs(step) < 1e-5) break;
+  }
+  if (var_lines < 0) return theta_normals;
+  const double gain = var_normals / std::max(var_normals + var_lines, 1e-18);
+  return theta_normals + gain * std::remainder(theta - theta_normals, kPi / 2);
+}
+
 // Upright box: orientation of the minimum-area rectangle around the footprint, then
 // robust extents along its sides (the top face spans the footprint when seen from above).
-Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
+Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params, bool face_lines) {
   Candidate c;
   c.model = Model::box;
   if (s.p.size() < 12) return c;
@@ -690,7 +769,7 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
       sides.push_back(static_cast<int>(i));
     }
     if (sides.size() >= 30 && len2(c4, s4) > 0.3 * sides.size())
-      best_theta = std::atan2(s4, c4) / 4;
+      best_theta = face_lines ? refine_box_theta(s, sides, std::atan2(s4, c4) / 4) : std::atan2(s4, c4) / 4;
     else
       sides.clear();
   }
@@ -1046,7 +1125,17 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   std::vector<Candidate> cands;
   // The box fit's footprint gates the shapes whose proportions cannot match it
   // (a torus is flat, a sphere as tall as it is wide): cheaper and fewer false fits.
-  const Candidate box = fit_box(s, params);
+  // The box turned by its faces' lines (refine_box_theta) stands only when it explains
+  // the points better than the box of the normals alone: faces assigned by noisy normals
+  // can pull the lines off (a box cut by the border, far away).
+  const Candidate box = [&] {
+    Candidate by_normals = fit_box(s, params, false), by_lines = fit_box(s, params, true);
+    if (!by_lines.valid || std::abs(by_lines.theta - by_normals.theta) < 1e-9) return by_normals;
+    if (!by_normals.valid) return by_lines;
+    evaluate(by_normals, s);
+    evaluate(by_lines, s);
+    return by_lines.score > by_normals.score ? by_lines : by_normals;
+  }();
   const double width = box.valid ? 2 * box.ex : 0, depth = box.valid ? 2 * box.ey : 0;
   const Candidate cyl = fit_cylinder(s, all, 0.0, params, rng);
   cands.push_back(cyl);
