@@ -1,8 +1,8 @@
 // annex-eval-osd: the scanner on the OSD learning set (../shared/data/osd-learn, 45
 // labelled tabletop scenes), the figures of docs/perception.md "Clutter".
 //   recall     labelled objects found whole: one reported object whose centre (its
-//              pixel nearest to its points' mean projected to the label image) lies on
-//              the labelled object and which holds 0.5 to 1.6 times its labelled points;
+//              most interior pixel, nearest to its points' mean projected to the label
+//              image among equals) lies on the labelled object and which holds 0.5 to 1.6 times its labelled points;
 //   precision  reported objects that are whole labelled objects;
 //   fragments  reported objects centred on a labelled object with < 0.5x its points;
 //   merges     reported objects holding > 25 % of the points of two or more objects;

@@ -107,6 +107,57 @@ std::string osd_category(int n) {
   return "round";
 }
 
+namespace {
+
+// The pixel of `pixels` farthest from every pixel outside them (chamfer distance, 1
+// across and sqrt 2 diagonally), among those within half a pixel of that farthest
+// distance the one nearest to the points' mean (sx, sy, sz sums) projected to the image.
+int most_interior_pixel(const std::vector<int>& pixels, int width, int height, double sx,
+                        double sy, double sz, const CameraIntrinsics& k) {
+  if (pixels.empty() || width <= 0 || height <= 0) return -1;
+  int u0 = width, u1 = -1, v0 = height, v1 = -1;
+  for (int i : pixels) {
+    u0 = std::min(u0, i % width);
+    u1 = std::max(u1, i % width);
+    v0 = std::min(v0, i / width);
+    v1 = std::max(v1, i / width);
+  }
+  // A one-pixel frame of outside pixels round the object's box.
+  const int w = u1 - u0 + 3, h = v1 - v0 + 3;
+  constexpr double kFar = 1e9, kDiag = 1.4142135623730951;
+  std::vector<double> dist(static_cast<size_t>(w) * h, 0.0);
+  for (int i : pixels) dist[static_cast<size_t>(i / width - v0 + 1) * w + (i % width - u0 + 1)] = kFar;
+  auto at = [&](int x, int y) -> double& { return dist[static_cast<size_t>(y) * w + x]; };
+  for (int y = 1; y < h - 1; ++y)
+    for (int x = 1; x < w - 1; ++x)
+      if (at(x, y) > 0)
+        at(x, y) = std::min({at(x, y), at(x - 1, y) + 1, at(x, y - 1) + 1, at(x - 1, y - 1) + kDiag,
+                             at(x + 1, y - 1) + kDiag});
+  double deepest = 0;
+  for (int y = h - 2; y >= 1; --y)
+    for (int x = w - 2; x >= 1; --x)
+      if (at(x, y) > 0) {
+        at(x, y) = std::min({at(x, y), at(x + 1, y) + 1, at(x, y + 1) + 1, at(x + 1, y + 1) + kDiag,
+                             at(x - 1, y + 1) + kDiag});
+        deepest = std::max(deepest, at(x, y));
+      }
+  const bool has_mean = sz > 0;
+  const double mu = has_mean ? k.fx * sx / sz + k.cx : 0, mv = has_mean ? k.fy * sy / sz + k.cy : 0;
+  int pick = -1;
+  double best = 1e300;
+  for (int i : pixels) {
+    if (at(i % width - u0 + 1, i / width - v0 + 1) < deepest - 0.5) continue;
+    const double du = i % width - mu, dv = i / width - mv;
+    if (pick < 0 || du * du + dv * dv < best) {
+      best = du * du + dv * dv;
+      pick = i;
+    }
+  }
+  return pick;
+}
+
+}  // namespace
+
 OsdSceneScore score_osd_scene(const OsdScene& scene, const ScanResult& scan,
                               const OsdExpectations& expectations) {
   OsdSceneScore score;
@@ -124,21 +175,14 @@ OsdSceneScore score_osd_scene(const OsdScene& scene, const ScanResult& scan,
       sz += f.points[i].z;
       ++held[scene.object_of_pixel[i]];
     }
-    // The centre: the object's own pixel nearest to its points' mean projected to the
-    // image. An object seen as an L (a lower box around the one standing on it) has
-    // its mean on its neighbour; its nearest own pixel lies on itself.
+    // The centre: the object's most interior pixel (farthest from any pixel not its
+    // own), the one nearest to its points' mean projected to the image among equals.
+    // An object seen as an L or a ring (a lower box around the one standing on it) has
+    // its mean on its neighbour, and its own pixel nearest that mean on its inner edge,
+    // where crease pixels the labels give the neighbour lie; its interior lies on itself.
     int centre_on = 0;
-    if (!c.pixels.empty() && sz > 0) {
-      const double u = k.fx * sx / sz + k.cx, v = k.fy * sy / sz + k.cy;
-      double best = 1e300;
-      for (int i : c.pixels) {
-        const double du = i % f.width - u, dv = i / f.width - v;
-        if (du * du + dv * dv < best) {
-          best = du * du + dv * dv;
-          centre_on = scene.object_of_pixel[i];
-        }
-      }
-    }
+    if (const int p = most_interior_pixel(c.pixels, f.width, f.height, sx, sy, sz, k); p >= 0)
+      centre_on = scene.object_of_pixel[p];
     int big_shares = 0;
     for (const auto& [id, n] : held)
       if (id > 0 && n > 0.25 * scene.labelled_points.at(id)) ++big_shares;

@@ -7,6 +7,7 @@
 // sanity bounds and a margin for the more complex shapes (docs/perception.md).
 #include "annex/runtime/object_shape_recognizer.h"
 
+#include "annex/runtime/frame.h"
 #include "cylinder_any_axis.h"
 
 #include <Eigen/Dense>
@@ -74,6 +75,7 @@ struct Candidate {
   double ex = 0, ey = 0;  // box half sizes; lying cylinder: ex = half length
   bool valid = false;
   bool as_cylinder = false;  // a frustum reported as the cylinder of its mean radius
+  bool depth_unseen = false;  // a box seen by one side face alone, no top: depth not measured
   double floor_h = -1;       // an open container's inner floor height (cylinder, cone), -1 none
   double score = 0, coverage = 0, rms = 0;
 };
@@ -374,6 +376,70 @@ Circle robust_circle(const std::vector<std::array<double, 2>>& q, const std::vec
 
 // Upright cylinder: circle of the side points' footprint; height from the plane (or
 // `base`) to where the side stops fitting or the cap lies.
+// The footprint's outline seen from above (per 5-degree direction from the points'
+// middle, the farthest point) fitted by a circle and by the box's rectangle (both refined
+// on it, Huber weights, tolerance the points' own or two pixels: where depth ends, a
+// silhouette is off by about a pixel). Returns the rectangle's residual energy over the
+// circle's (each residual capped at three tolerances): well above 1 for a round top or
+// rim (a can, a bowl, a lampshade seen from above), at most about 1 for a box. `circle`
+// gets the circle. 0 when the outline is not seen round most directions.
+double outline_round_over_rectangle(const Samples& s, const Candidate& box,
+                                    const ShapeRecognizerParams& params, Circle& circle) {
+  constexpr int kBins = 72;
+  double ma = 0, mb = 0;
+  for (const Local& p : s.p) {
+    ma += p.a;
+    mb += p.b;
+  }
+  ma /= static_cast<double>(s.p.size());
+  mb /= static_cast<double>(s.p.size());
+  std::vector<int> far(kBins, -1);
+  std::vector<double> far_r(kBins, 0);
+  for (size_t i = 0; i < s.p.size(); ++i) {
+    const double da = s.p[i].a - ma, db = s.p[i].b - mb, r = len2(da, db);
+    const int b = std::clamp(static_cast<int>((std::atan2(db, da) + kPi) / (2 * kPi) * kBins), 0, kBins - 1);
+    if (r > far_r[b]) {
+      far_r[b] = r;
+      far[b] = static_cast<int>(i);
+    }
+  }
+  std::vector<std::array<double, 2>> rim;
+  std::vector<double> tol;
+  for (int b = 0; b < kBins; ++b)
+    if (far[b] >= 0) {
+      rim.push_back({s.p[far[b]].a, s.p[far[b]].b});
+      tol.push_back(std::max(s.tol[far[b]], 2 * std::abs(s.xyz[far[b]].z) / 525.0));
+    }
+  if (rim.size() < 0.75 * kBins) return 0;
+  const Circle start = kasa_circle(rim);
+  if (!start.ok) return 0;
+  const int n = static_cast<int>(rim.size());
+  std::array<double, 3> c{start.x, start.y, start.r};
+  auto circle_residual = [&](const std::array<double, 3>& p, int i) {
+    return len2(rim[i][0] - p[0], rim[i][1] - p[1]) - p[2];
+  };
+  refine<3>(c, n, tol, circle_residual);
+  std::array<double, 5> q{box.ca, box.cb, box.theta, box.ex, box.ey};
+  auto rectangle_residual = [&](const std::array<double, 5>& p, int i) {
+    const double cs = std::cos(p[2]), sn = std::sin(p[2]);
+    const double da = rim[i][0] - p[0], db = rim[i][1] - p[1];
+    const double ox = std::abs(cs * da + sn * db) - std::abs(p[3]);
+    const double oy = std::abs(-sn * da + cs * db) - std::abs(p[4]);
+    if (ox <= 0 && oy <= 0) return std::max(ox, oy);
+    return len2(std::max(ox, 0.0), std::max(oy, 0.0));
+  };
+  refine<5>(q, n, tol, rectangle_residual);
+  double e_circle = 0, e_rectangle = 0;
+  for (int i = 0; i < n; ++i) {
+    const double cap = 9 * tol[i] * tol[i];
+    e_circle += std::min(cap, std::pow(circle_residual(c, i), 2));
+    e_rectangle += std::min(cap, std::pow(rectangle_residual(q, i), 2));
+  }
+  circle = {c[0], c[1], std::abs(c[2]), true};
+  if (circle.r < params.min_radius_m || circle.r > params.max_radius_m) return 0;
+  return e_rectangle / std::max(e_circle, 1e-12);
+}
+
 Candidate fit_cylinder(const Samples& s, const std::vector<int>& subset, double base,
                        const ShapeRecognizerParams& params, std::mt19937_64& rng) {
   Candidate c;
@@ -518,6 +584,18 @@ Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
   // A resting sphere's centre is one radius above the plane.
   c.valid = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m &&
             std::abs(c.hc - c.r0) < std::max(0.012, 0.2 * c.r0);
+  if (!c.valid) return c;
+  // Then it is fitted as resting: three parameters, its centre one radius up.
+  std::array<double, 3> y{c.ca, c.cb, (c.hc + c.r0) / 2};
+  refine<3>(y, n, s.tol, [&](const std::array<double, 3>& p, int i) {
+    const Local& q = s.p[i];
+    const double r = std::abs(p[2]);
+    return std::sqrt((q.a - p[0]) * (q.a - p[0]) + (q.b - p[1]) * (q.b - p[1]) + (q.h - r) * (q.h - r)) - r;
+  });
+  c.ca = y[0];
+  c.cb = y[1];
+  c.hc = c.r0 = std::abs(y[2]);
+  c.valid = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m;
   return c;
 }
 
@@ -569,9 +647,88 @@ std::vector<std::array<double, 2>> hull_2d(std::vector<std::array<double, 2>> pt
   return h;
 }
 
+// A box's azimuth from its side faces' points, fused with the side normals' estimate by
+// their noise. Each side point belongs to the face its normal faces (faces parted at the
+// footprint's middle), a face is a line in the footprint at its points' median offset,
+// and Gauss-Newton turns the lines to fit the points (points off by more than their
+// tolerance, an edge or a neighbour, do not steer). The lines fix the direction over the
+// faces' whole length (two pieces of one box seen past a nearer object lie on one line);
+// the normals' mean is biased on a small piece and noisy far away, but the lines are
+// noisy too. Each estimate's variance: the normals' spread of 4x azimuth over 16 n, the
+// lines' residual variance over the sum of squared positions along them (a slope's);
+// the result is their inverse-variance mean (both sets of points share the smoothing, so
+// its correlation scales both variances alike).
+double refine_box_theta(const Samples& s, const std::vector<int>& sides, double theta_normals) {
+  // The normals' estimate and its variance.
+  double var_normals = 0;
+  for (int i : sides) {
+    const double d = std::remainder(4 * (std::atan2(s.nb[i], s.na[i]) - theta_normals), 2 * kPi);
+    var_normals += d * d;
+  }
+  var_normals /= 16.0 * static_cast<double>(sides.size()) * static_cast<double>(sides.size());
+  double theta = theta_normals, var_lines = -1;
+  for (int iter = 0; iter < 6; ++iter) {
+    const double cs = std::cos(theta), sn = std::sin(theta);
+    std::vector<double> ax, ay;
+    for (const Local& p : s.p) {
+      ax.push_back(cs * p.a + sn * p.b);
+      ay.push_back(-sn * p.a + cs * p.b);
+    }
+    const double xm = (quantile(ax, 0.005) + quantile(ax, 0.995)) / 2;
+    const double ym = (quantile(ay, 0.005) + quantile(ay, 0.995)) / 2;
+    // Per face (-x, +x, -y, +y): the offset, the position along it, the tolerance.
+    std::vector<std::array<double, 3>> face[4];
+    for (int i : sides) {
+      const double x = ax[i], y = ay[i];
+      const double nx = cs * s.na[i] + sn * s.nb[i], ny = -sn * s.na[i] + cs * s.nb[i];
+      const double nh = len2(nx, ny);
+      if (nh < 1e-6) continue;
+      if (nx < -0.9 * nh && x < xm) face[0].push_back({x, y, s.tol[i]});
+      if (nx > 0.9 * nh && x > xm) face[1].push_back({x, y, s.tol[i]});
+      if (ny < -0.9 * nh && y < ym) face[2].push_back({y, -x, s.tol[i]});
+      if (ny > 0.9 * nh && y > ym) face[3].push_back({y, -x, s.tol[i]});
+    }
+    double jj = 0, jr = 0, rr = 0;
+    int m = 0;
+    for (auto& f : face) {
+      if (f.size() < 20) continue;
+      std::vector<double> off;
+      for (const auto& q : f) off.push_back(q[0]);
+      const double d = quantile(off, 0.5);
+      double sg = 0, sr = 0, w = 0;
+      std::vector<std::array<double, 2>> in;
+      for (const auto& q : f)
+        if (std::abs(q[0] - d) < q[2]) {
+          in.push_back({q[1], q[0] - d});
+          sg += q[1];
+          sr += q[0] - d;
+          w += 1;
+        }
+      if (w < 20) continue;
+      for (const auto& q : in) {
+        const double g = q[0] - sg / w, r = q[1] - sr / w;
+        jj += g * g;
+        jr += g * r;
+        rr += r * r;
+        ++m;
+      }
+    }
+    // Too short a face (under about 2 cm of spread) does not fix a direction.
+    if (jj < 20 * 0.01 * 0.01 || m < 3) return theta_normals;
+    const double step = std::clamp(-jr / jj, -0.05, 0.05);
+    theta += step;
+    // The lines' residual after the step, over the positions' spread: a slope's variance.
+    var_lines = std::max(rr - jr * jr / jj, 0.0) / (m - 2) / jj;
+    if (std::abs(step) < 1e-5) break;
+  }
+  if (var_lines < 0) return theta_normals;
+  const double gain = var_normals / std::max(var_normals + var_lines, 1e-18);
+  return theta_normals + gain * std::remainder(theta - theta_normals, kPi / 2);
+}
+
 // Upright box: orientation of the minimum-area rectangle around the footprint, then
 // robust extents along its sides (the top face spans the footprint when seen from above).
-Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
+Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params, bool face_lines) {
   Candidate c;
   c.model = Model::box;
   if (s.p.size() < 12) return c;
@@ -612,7 +769,7 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
       sides.push_back(static_cast<int>(i));
     }
     if (sides.size() >= 30 && len2(c4, s4) > 0.3 * sides.size())
-      best_theta = std::atan2(s4, c4) / 4;
+      best_theta = face_lines ? refine_box_theta(s, sides, std::atan2(s4, c4) / 4) : std::atan2(s4, c4) / 4;
     else
       sides.clear();
   }
@@ -680,6 +837,12 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params) {
     double* bound[4] = {&x0, &x1, &y0, &y1};
     for (int k = 0; k < 4; ++k)
       if (face[k].size() >= 20) *bound[k] = quantile(face[k], 0.5);
+    // One face seen alone, and no top, measures the box's width and height but not its
+    // depth: the extent across that face is the spread of its noise, not the box.
+    const bool x_seen = face[0].size() >= 20 || face[1].size() >= 20;
+    const bool y_seen = face[2].size() >= 20 || face[3].size() >= 20;
+    const bool top_seen = top_face.size() >= 30 && top_face.size() >= s.p.size() / 10;
+    c.depth_unseen = x_seen != y_seen && !top_seen;
   }
   const double xm = (x0 + x1) / 2, ym = (y0 + y1) / 2;
   c.theta = best_theta;
@@ -850,6 +1013,73 @@ ShapeFit to_fit(const Candidate& c, const PlaneFrame& f) {
   return out;
 }
 
+// Parameters each resting shape fits given the support plane: the axis position (2),
+// then a sphere's radius (its centre one radius up); a cylinder's radius and height; a
+// cone's two radii and height; a torus's two radii; a box's azimuth, two sides and
+// height; a lying cylinder's azimuth, offset, position along it, radius and length.
+int parameter_count(Model m) {
+  switch (m) {
+    case Model::sphere: return 3;
+    case Model::cylinder: return 4;
+    case Model::cone: return 5;
+    case Model::torus: return 4;
+    case Model::box: return 6;
+    case Model::lying_cylinder: return 6;
+  }
+  return 6;
+}
+
+struct SelectionEntry {
+  double evidence = 0;  // MSAC score (1 - mean (d / tol)^2), side-shape penalty included
+  double coverage = 0, rms_m = 0;
+  int parameters = 0;
+};
+
+// The number of independent noise samples among the points: the scanner smooths each
+// point over its neighbours within max(1.2 cm, 3 sigma_z, 6 pixels) at its depth (its
+// default MLS radius and window, scanner.cpp smooth_cluster), so points that close share
+// their noise. Each point counts one over the number of points in its neighbourhood.
+double independent_points(const Samples& s) {
+  double n = 0;
+  for (size_t i = 0; i < s.xyz.size(); ++i) {
+    const double z = std::abs(s.xyz[i].z);
+    const double r = std::max({0.012, 3 * kinect_sigma_z(z), 6 * z / CameraIntrinsics{}.fx});
+    int near = 0;
+    for (size_t j = 0; j < s.xyz.size(); ++j) {
+      const Vec3 d = s.xyz[j] - s.xyz[i];
+      near += dot(d, d) < r * r;
+    }
+    n += 1.0 / std::max(near, 1);
+  }
+  return n;
+}
+
+// The saturated candidate (coverage >= `saturated`) with the least BIC over n independent
+// points, n (1 - evidence) tol^2 / sigma^2 + k ln n: (1 - evidence) tol^2 is their mean
+// truncated squared residual, sigma the noise, estimated by the smallest RMS among the
+// saturated candidates (an upper bound of it). -1 when none is saturated.
+int saturated_choice(const std::vector<SelectionEntry>& entries, double n, double mean_tol2,
+                     double saturated) {
+  double sigma = 1e9;
+  for (const SelectionEntry& e : entries)
+    if (e.coverage >= saturated && e.rms_m > 0) sigma = std::min(sigma, e.rms_m);
+  if (sigma >= 1e9 || n <= 0) return -1;
+  sigma = std::max(sigma, 1e-4);
+  int pick = -1;
+  double least = 1e300;
+  for (size_t i = 0; i < entries.size(); ++i) {
+    const SelectionEntry& e = entries[i];
+    if (e.coverage < saturated) continue;
+    const double bic = n * std::max(0.0, 1 - e.evidence) * mean_tol2 / (sigma * sigma) +
+                       e.parameters * std::log(std::max(n, 2.0));
+    if (bic < least) {
+      least = bic;
+      pick = static_cast<int>(i);
+    }
+  }
+  return pick;
+}
+
 // Subsample deterministically: a seeded shuffle keeps the spatial spread.
 std::vector<int> pick_indices(size_t n, int max_points, std::mt19937_64& rng) {
   std::vector<int> idx(n);
@@ -895,7 +1125,17 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   std::vector<Candidate> cands;
   // The box fit's footprint gates the shapes whose proportions cannot match it
   // (a torus is flat, a sphere as tall as it is wide): cheaper and fewer false fits.
-  const Candidate box = fit_box(s, params);
+  // The box turned by its faces' lines (refine_box_theta) stands only when it explains
+  // the points better than the box of the normals alone: faces assigned by noisy normals
+  // can pull the lines off (a box cut by the border, far away).
+  const Candidate box = [&] {
+    Candidate by_normals = fit_box(s, params, false), by_lines = fit_box(s, params, true);
+    if (!by_lines.valid || std::abs(by_lines.theta - by_normals.theta) < 1e-9) return by_normals;
+    if (!by_normals.valid) return by_lines;
+    evaluate(by_normals, s);
+    evaluate(by_lines, s);
+    return by_lines.score > by_normals.score ? by_lines : by_normals;
+  }();
   const double width = box.valid ? 2 * box.ex : 0, depth = box.valid ? 2 * box.ey : 0;
   const Candidate cyl = fit_cylinder(s, all, 0.0, params, rng);
   cands.push_back(cyl);
@@ -933,15 +1173,21 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   const double tol_1m = std::max(params.min_tolerance_m, params.noise_factor * kinect_sigma_z(1.0));
   const double margin_scale = std::min(1.0, (tol_1m / mean_tol) * (tol_1m / mean_tol));
   const double complexity_margin = params.complexity_margin * margin_scale;
-  int best = -1;
-  double best_score = -1;
-  for (size_t i = 0; i < cands.size(); ++i) {
+  // Each candidate is judged once: bounds, fit to the points, frustum or cylinder; its
+  // evidence is the score less the side-shape penalty, its rank that less the margin
+  // the more complex shapes pay.
+  std::vector<double> evidence, rank;
+  std::vector<char> judged;
+  auto judge = [&](size_t i) {
+    evidence.resize(cands.size(), 0);
+    rank.resize(cands.size(), 0);
+    judged.resize(cands.size(), 0);
     Candidate& c = cands[i];
     // A radius far beyond the footprint is a flat face read as a huge arc.
     if (box.valid && (c.model == Model::cylinder || c.model == Model::cone) &&
         std::max(c.r0, c.r1) > std::max(width, 0.03))
       c.valid = false;
-    if (!c.valid) continue;
+    if (!c.valid) return;
     settle_inner_floor(c, s);
     evaluate(c, s);
     settle_frustum(c, s, 2 * complexity_margin);
@@ -952,13 +1198,79 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
                            c.model == Model::lying_cylinder)
                               ? complexity_margin
                               : 0.0;
-    double score = c.score - margin;
+    double score = c.score;
     const bool round = c.model == Model::cylinder || c.model == Model::cone;
     if (flatness > 0.6 && round) score -= params.side_shape_penalty;
     if (flatness >= 0 && flatness < 0.3 && c.model == Model::box) score -= params.side_shape_penalty;
-    if (score > best_score) {
-      best_score = score;
-      best = static_cast<int>(i);
+    evidence[i] = score;
+    rank[i] = score - margin;
+    judged[i] = 1;
+  };
+  // The best judged candidate by rank; far away, where coverage saturates and the
+  // choice rests on residuals a few millimetres apart, the size of the noise, and a
+  // shape with more parameters follows the noise better by chance: among the saturated
+  // candidates the one with the least Bayesian information criterion, the residual in
+  // units of the noise (estimated by the closest fit's RMS, an upper bound of it)
+  // against the parameters it fitted (saturated_choice).
+  double tol2 = 0;
+  for (double t : s.tol) tol2 += t * t;
+  tol2 /= static_cast<double>(s.tol.size());
+  auto choose = [&](int& best, double& best_score) {
+    best = -1;
+    best_score = -1;
+    for (size_t i = 0; i < cands.size(); ++i)
+      if (judged[i] && cands[i].valid && rank[i] > best_score) {
+        best_score = rank[i];
+        best = static_cast<int>(i);
+      }
+    if (best < 0 || cands[best].coverage < 1 - params.complexity_margin) return;
+    std::vector<SelectionEntry> entries;
+    std::vector<int> index;
+    for (size_t i = 0; i < cands.size(); ++i)
+      if (judged[i] && cands[i].valid) {
+        entries.push_back({evidence[i], cands[i].coverage, cands[i].rms, parameter_count(cands[i].model)});
+        index.push_back(static_cast<int>(i));
+      }
+    const int pick = saturated_choice(entries, independent_points(s), tol2, 1 - params.complexity_margin);
+    if (pick >= 0) best = index[static_cast<size_t>(pick)];
+  };
+  for (size_t i = 0; i < cands.size(); ++i) judge(i);
+  int best = -1;
+  double best_score = -1;
+  choose(best, best_score);
+  // A box wins on a flat top seen from above (it explains a disc as its top face and
+  // whatever is below as inside it), but a box's top outline is a rectangle: when the
+  // footprint's outline is round, the object is round (a bowl or a lampshade widening
+  // up, whose side hides under its rim; a can). Its circle gives an upright cylinder,
+  // and the cone from it, in the box's place.
+  if (best >= 0 && cands[best].model == Model::box && s.has_normals) {
+    int top_seen = 0;
+    for (size_t i = 0; i < s.p.size(); ++i) top_seen += s.up[i] > 0.9 && s.p[i].h > s.top - std::max(0.02, 0.15 * s.top);
+    Circle rim;
+    const double roundness = top_seen >= 30 ? outline_round_over_rectangle(s, cands[best], params, rim) : 0;
+    if (top_seen >= 30 && top_seen >= 0.3 * s.p.size() &&
+        roundness >= 2) {
+      Candidate round_top;
+      round_top.model = Model::cylinder;
+      round_top.ca = rim.x;
+      round_top.cb = rim.y;
+      round_top.r0 = round_top.r1 = rim.r;
+      round_top.h0 = 0;
+      round_top.h1 = cands[best].h1;
+      round_top.valid = rim.r >= params.min_radius_m && rim.r <= params.max_radius_m;
+      if (round_top.valid) {
+        const int box_index = best;
+        cands.push_back(round_top);
+        cands.push_back(fit_cone(s, all, round_top, params));
+        judge(cands.size() - 2);
+        judge(cands.size() - 1);
+        cands[static_cast<size_t>(box_index)].valid = false;
+        choose(best, best_score);
+        if (best < 0 || cands[best].coverage < params.min_coverage) {
+          cands[static_cast<size_t>(box_index)].valid = true;
+          choose(best, best_score);
+        }
+      }
     }
   }
   // Far away the tolerance (noise_factor x sigma_z) grows until a shape and its rival
@@ -1077,6 +1389,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   }
   const Candidate& salient = cands[best];
   out.primitives.push_back(to_fit(salient, frame));
+  out.depth_unseen = salient.model == Model::box && salient.depth_unseen;
   out.fit = salient.coverage;
   if (!second) second = secondary(salient);
   if (second) out.primitives.push_back(*second);

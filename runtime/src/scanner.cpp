@@ -1407,7 +1407,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     size_t covered = 0;
     for (int i : sc.pixels) covered += hidden[static_cast<size_t>(i)];
     obj.partial = at_border >= 3 || obj.point_count < params.min_whole_points ||
-                  2 * covered > sc.pixels.size();
+                  2 * covered > sc.pixels.size() || sc.shape.depth_unseen;
     result.scene.objects.push_back(std::move(obj));
   }
   result.stages.push_back({"shapes", ms_since(t0)});

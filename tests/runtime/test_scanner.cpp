@@ -589,6 +589,81 @@ TEST(ScannerWorld, TableObjectsFoundOnTheirSupportsAndNoLegsOrSlivers) {
   EXPECT_LE(furniture, 1);
 }
 
+TEST(ScannerFar, SmallFarToriAndBallsAreNotBoxesOrCones) {
+  // 2.2 to 3 m away, seen by 50 to 160 points: the residual tolerance (2.5 sigma_z, 16 to
+  // 25 mm) is as thick as a torus's tube or a small ball, so a box, a cone and a cylinder
+  // explain every point too and their RMS differs from the true shape's by under a
+  // millimetre. A box (6 parameters) or a cone (5) follows the noise that closely by
+  // chance; the information criterion keeps the torus (4) and the sphere (4). Measured:
+  // all 4 right (boxes or cones before it: seeds 2041 and 2059's tori, 2057's torus at
+  // 2.27 m, 2056's ball of 49 points at 2.99 m).
+  int checked = 0, right = 0;
+  for (std::uint64_t seed : {2041u, 2056u, 2057u, 2059u}) {
+    const SyntheticFrame f = world(seed);
+    const Result<ScanResult> scan = scan_frame(f.frame);
+    ASSERT_TRUE(scan.ok()) << scan.error().format();
+    for (size_t k = 0; k < scan->clusters.size(); ++k) {
+      const int owner = majority_label(f, scan->clusters[k]);
+      if (owner < 0) continue;
+      const PhysicalObject& t = f.truth.objects[static_cast<size_t>(owner)];
+      const ShapeKind kind = t.primitives[0].kind;
+      const double dist = norm(t.primitives[0].center);
+      if (t.partial || (kind != ShapeKind::torus && kind != ShapeKind::sphere) || dist < 2.2 || dist > 3.0)
+        continue;
+      const PhysicalObject& o = scan->scene.objects[k];
+      if (o.point_count > 200) continue;
+      ++checked;
+      const bool ok = !o.primitives.empty() && o.primitives[0].kind == kind;
+      right += ok;
+      EXPECT_TRUE(ok) << "seed " << seed << " " << o.id << " (" << shape_name(kind) << ", "
+                      << o.point_count << " points at " << dist << " m) is "
+                      << (o.primitives.empty() ? "unknown" : shape_name(o.primitives[0].kind));
+    }
+  }
+  EXPECT_GE(checked, 4);
+}
+
+TEST(ScannerFar, FlatBowlSeenFromAboveIsRoundNotABox) {
+  // A flat bowl widening up (closed at its rim, as the generator draws it) seen from
+  // 1.6 m and 55 degrees above: its side hides under the rim, so a box explains the disc
+  // of its top as its top face and the rest as inside it; the outline of that top is a
+  // circle, which the box's rectangle fits far worse.
+  int round = 0, seen = 0;
+  for (std::uint64_t seed = 1; seed <= 2; ++seed) {
+    SyntheticSceneParams p;
+    p.seed = seed;
+    p.object_count = 0;
+    p.camera_distance_min_m = p.camera_distance_max_m = 1.6;
+    p.camera_tilt_min_deg = p.camera_tilt_max_deg = 55;
+    Result<SyntheticScene> scene = generate_scene(p);
+    ASSERT_TRUE(scene.ok()) << scene.error().format();
+    const double t = scene->camera_tilt_deg * 3.14159265358979323846 / 180;
+    const Vec3 aim = scene->camera_position +
+                     Vec3{0, std::cos(t), -std::sin(t)} * (scene->camera_position.z / std::sin(t));
+    SyntheticObject bowl = resting_object(ShapeKind::cone, {0.11, 0.08}, aim.x, aim.y);
+    bowl.apex_down = true;
+    bowl.narrow_radius_m = 0.06;
+    scene->objects = {bowl};
+    const SyntheticFrame f = render_scene(*scene);
+    const Result<ScanResult> scan = scan_frame(f.frame);
+    ASSERT_TRUE(scan.ok()) << scan.error().format();
+    for (size_t k = 0; k < scan->clusters.size(); ++k) {
+      if (majority_label(f, scan->clusters[k]) != 0) continue;
+      const PhysicalObject& o = scan->scene.objects[k];
+      ASSERT_FALSE(o.primitives.empty()) << "seed " << seed;
+      const PhysicalPrimitive& prim = o.primitives[0];
+      ++seen;
+      if (prim.kind == ShapeKind::cylinder || prim.kind == ShapeKind::cone) {
+        ++round;
+        // Its wide radius is the rim's.
+        EXPECT_NEAR(prim.dimensions_m[0], 0.11, 0.015) << "seed " << seed;
+      }
+    }
+  }
+  ASSERT_EQ(seen, 2);
+  EXPECT_EQ(round, 2);
+}
+
 // World scene `seed` scanned: a support lies at the table's height, at least
 // `min_on_table` objects (whole ones only if `whole_only`) stand on it, and its legs and
 // the wall are never reported whole.

@@ -61,6 +61,9 @@ struct ShapeFit {
 struct ObjectShape {
   std::vector<ShapeFit> primitives;  // salient first; empty when unknown
   double fit = 0;                    // the salient coverage, 0 when unknown
+  // The salient box was seen by one side face alone (no top, no side across it): its
+  // depth is not measured, only the thickness of that face's noise.
+  bool depth_unseen = false;
   // Every candidate the recognizer tried, for diagnostics (kind, coverage, rms).
   std::vector<ShapeFit> candidates;
 };
