@@ -1217,6 +1217,9 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   double tol2 = 0;
   for (double t : s.tol) tol2 += t * t;
   tol2 /= static_cast<double>(s.tol.size());
+  struct {
+    double value = -1;  // independent_points(s), counted once when first needed
+  } independent;
   auto choose = [&](int& best, double& best_score) {
     best = -1;
     best_score = -1;
@@ -1228,12 +1231,16 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     if (best < 0 || cands[best].coverage < 1 - params.complexity_margin) return;
     std::vector<SelectionEntry> entries;
     std::vector<int> index;
+    int saturated = 0;
     for (size_t i = 0; i < cands.size(); ++i)
       if (judged[i] && cands[i].valid) {
         entries.push_back({evidence[i], cands[i].coverage, cands[i].rms, parameter_count(cands[i].model)});
         index.push_back(static_cast<int>(i));
+        saturated += cands[i].coverage >= 1 - params.complexity_margin;
       }
-    const int pick = saturated_choice(entries, independent_points(s), tol2, 1 - params.complexity_margin);
+    if (saturated < 2) return;  // nothing to choose between
+    if (independent.value < 0) independent.value = independent_points(s);
+    const int pick = saturated_choice(entries, independent.value, tol2, 1 - params.complexity_margin);
     if (pick >= 0) best = index[static_cast<size_t>(pick)];
   };
   for (size_t i = 0; i < cands.size(); ++i) judge(i);
