@@ -1038,18 +1038,20 @@ struct SelectionEntry {
 // The number of independent noise samples among the points: the scanner smooths each
 // point over its neighbours within max(1.2 cm, 3 sigma_z, 6 pixels) at its depth (its
 // default MLS radius and window, scanner.cpp smooth_cluster), so points that close share
-// their noise. Each point counts one over the number of points in its neighbourhood.
+// their noise. Each point counts one over the number of points in its neighbourhood,
+// counted on every k-th point (k x that count) so that it costs at most 200 per point.
 double independent_points(const Samples& s) {
+  const size_t stride = std::max<size_t>(1, s.xyz.size() / 200);
   double n = 0;
   for (size_t i = 0; i < s.xyz.size(); ++i) {
     const double z = std::abs(s.xyz[i].z);
     const double r = std::max({0.012, 3 * kinect_sigma_z(z), 6 * z / CameraIntrinsics{}.fx});
-    int near = 0;
-    for (size_t j = 0; j < s.xyz.size(); ++j) {
+    size_t near = 0;
+    for (size_t j = i % stride; j < s.xyz.size(); j += stride) {
       const Vec3 d = s.xyz[j] - s.xyz[i];
       near += dot(d, d) < r * r;
     }
-    n += 1.0 / std::max(near, 1);
+    n += 1.0 / static_cast<double>(std::max<size_t>(near * stride, 1));
   }
   return n;
 }
@@ -1215,6 +1217,9 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   double tol2 = 0;
   for (double t : s.tol) tol2 += t * t;
   tol2 /= static_cast<double>(s.tol.size());
+  struct {
+    double value = -1;  // independent_points(s), counted once when first needed
+  } independent;
   auto choose = [&](int& best, double& best_score) {
     best = -1;
     best_score = -1;
@@ -1226,12 +1231,16 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     if (best < 0 || cands[best].coverage < 1 - params.complexity_margin) return;
     std::vector<SelectionEntry> entries;
     std::vector<int> index;
+    int saturated = 0;
     for (size_t i = 0; i < cands.size(); ++i)
       if (judged[i] && cands[i].valid) {
         entries.push_back({evidence[i], cands[i].coverage, cands[i].rms, parameter_count(cands[i].model)});
         index.push_back(static_cast<int>(i));
+        saturated += cands[i].coverage >= 1 - params.complexity_margin;
       }
-    const int pick = saturated_choice(entries, independent_points(s), tol2, 1 - params.complexity_margin);
+    if (saturated < 2) return;  // nothing to choose between
+    if (independent.value < 0) independent.value = independent_points(s);
+    const int pick = saturated_choice(entries, independent.value, tol2, 1 - params.complexity_margin);
     if (pick >= 0) best = index[static_cast<size_t>(pick)];
   };
   for (size_t i = 0; i < cands.size(); ++i) judge(i);
