@@ -758,8 +758,10 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params, bool fa
   for (size_t i = 0; i < hull.size(); ++i) {
     const auto& p1 = hull[i];
     const auto& p2 = hull[(i + 1) % hull.size()];
-    const double theta = std::atan2(p2[1] - p1[1], p2[0] - p1[0]);
-    const double cs = std::cos(theta), sn = std::sin(theta);
+    // The edge's unit direction (cos and sin of its azimuth); the angle is taken only
+    // for the best edge.
+    const double ex = p2[0] - p1[0], ey = p2[1] - p1[1], length = len2(ex, ey);
+    const double cs = ex / length, sn = ey / length;
     double x0 = 1e18, x1 = -1e18, y0 = 1e18, y1 = -1e18;
     for (const auto& p : hull) {
       const double x = cs * p[0] + sn * p[1], y = -sn * p[0] + cs * p[1];
@@ -770,7 +772,7 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params, bool fa
     }
     if ((x1 - x0) * (y1 - y0) < best_area) {
       best_area = (x1 - x0) * (y1 - y0);
-      best_theta = theta;
+      best_theta = std::atan2(ey, ex);
     }
   }
   // With normals, the side faces give the orientation (normal azimuths modulo 90
@@ -781,9 +783,9 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params, bool fa
     double c4 = 0, s4 = 0;
     for (size_t i = 0; i < s.p.size(); ++i) {
       if (std::abs(s.up[i]) > 0.4) continue;
-      const double phi = std::atan2(s.nb[i], s.na[i]);
-      c4 += std::cos(4 * phi);
-      s4 += std::sin(4 * phi);
+      const auto [cos4, sin4] = shape_residuals::fourfold(s.na[i], s.nb[i]);
+      c4 += cos4;
+      s4 += sin4;
       sides.push_back(static_cast<int>(i));
     }
     if (sides.size() >= 30 && len2(c4, s4) > 0.3 * sides.size())

@@ -123,5 +123,20 @@ TEST(ShapeResiduals, ValuesAreTheShapesDistances) {
   EXPECT_NEAR(lying_circle({0.0, 0.03}, 0.0, 0.065, nullptr), 0.005, 1e-12);
 }
 
+// The 4x-angle moments without trig against cos and sin of 4 atan2, any length, every quadrant.
+TEST(ShapeResiduals, FourfoldMatchesTrig) {
+  std::mt19937_64 rng(3);
+  for (int t = 0; t < 1000; ++t) {
+    const double x = unit(rng) * (t % 3 + 0.5), y = unit(rng) * (t % 5 + 0.5);
+    const double phi = std::atan2(y, x);
+    const auto [c4, s4] = fourfold(x, y);
+    EXPECT_NEAR(c4, std::cos(4 * phi), 1e-12);
+    EXPECT_NEAR(s4, std::sin(4 * phi), 1e-12);
+  }
+  const auto [c0, s0] = fourfold(0, 0);
+  EXPECT_EQ(c0, 1.0);
+  EXPECT_EQ(s0, 0.0);
+}
+
 }  // namespace
 }  // namespace annex
