@@ -1,5 +1,6 @@
 // A cylinder in any orientation (cylinder_any_axis.h).
 #include "cylinder_any_axis.h"
+#include "shape_residuals.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -120,9 +121,9 @@ AxisCylinderFit fit_from(const std::vector<Vec3>& points, const std::vector<Vec3
     w[i] = side[i] ? 1.0 : 0.0;
     if (side[i]) {
       const Eigen::Vector3d v(normals[i].x, normals[i].y, normals[i].z);
-      const double psi = std::atan2(v.dot(e2), v.dot(e1));
-      c4 += std::cos(4 * psi);
-      s4 += std::sin(4 * psi);
+      const auto [cos4, sin4] = shape_residuals::fourfold(v.dot(e1), v.dot(e2));
+      c4 += cos4;
+      s4 += sin4;
       ++sides;
     }
   }

@@ -9,6 +9,7 @@
 
 #include "annex/runtime/frame.h"
 #include "cylinder_any_axis.h"
+#include "shape_residuals.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -245,17 +246,18 @@ double quantile(std::vector<double> v, double q) {
   return v[k];
 }
 
-// Levenberg-Marquardt on a few parameters with a numeric Jacobian and Huber weights.
-// `residual(params, i)` gives point i's signed residual.
+// Levenberg-Marquardt on a few parameters with Huber weights. `residual(params, i, g)`
+// gives point i's signed residual and, when `g` is not null, its gradient in `g`.
 template <int N, typename F>
-void refine(std::array<double, N>& x, int count, const std::vector<double>& scale, F residual,
-            int iterations = 8) {
+void refine_lm(std::array<double, N>& x, int count, const std::vector<double>& scale, F residual,
+               int iterations) {
+  using Gradient = Eigen::Matrix<double, N, 1>;
   if (count < N + 1) return;
   double lambda = 1e-3;
   auto cost = [&](const std::array<double, N>& p) {
     double c = 0;
     for (int i = 0; i < count; ++i) {
-      const double r = residual(p, i), k = 2.0 * scale[i];
+      const double r = residual(p, i, static_cast<Gradient*>(nullptr)), k = 2.0 * scale[i];
       c += std::abs(r) < k ? r * r : 2 * k * std::abs(r) - k * k;
     }
     return c;
@@ -263,17 +265,11 @@ void refine(std::array<double, N>& x, int count, const std::vector<double>& scal
   double current = cost(x);
   for (int it = 0; it < iterations; ++it) {
     Eigen::Matrix<double, N, N> jtj = Eigen::Matrix<double, N, N>::Zero();
-    Eigen::Matrix<double, N, 1> jtr = Eigen::Matrix<double, N, 1>::Zero();
+    Gradient jtr = Gradient::Zero();
     for (int i = 0; i < count; ++i) {
-      const double r = residual(x, i), k = 2.0 * scale[i];
+      Gradient g;
+      const double r = residual(x, i, &g), k = 2.0 * scale[i];
       const double w = std::abs(r) < k ? 1.0 : k / std::abs(r);
-      Eigen::Matrix<double, N, 1> g;
-      for (int j = 0; j < N; ++j) {
-        std::array<double, N> xp = x;
-        const double step = 1e-6 * std::max(1.0, std::abs(x[j]));
-        xp[j] += step;
-        g[j] = (residual(xp, i) - r) / step;
-      }
       jtj += w * g * g.transpose();
       jtr += w * g * r;
     }
@@ -281,7 +277,7 @@ void refine(std::array<double, N>& x, int count, const std::vector<double>& scal
     for (int attempt = 0; attempt < 6 && !improved; ++attempt) {
       Eigen::Matrix<double, N, N> a = jtj;
       for (int j = 0; j < N; ++j) a(j, j) += lambda * (jtj(j, j) + 1e-12);
-      const Eigen::Matrix<double, N, 1> delta = a.ldlt().solve(-jtr);
+      const Gradient delta = a.ldlt().solve(-jtr);
       std::array<double, N> next = x;
       for (int j = 0; j < N; ++j) next[j] += delta[j];
       const double c = cost(next);
@@ -296,6 +292,32 @@ void refine(std::array<double, N>& x, int count, const std::vector<double>& scal
     }
     if (!improved) break;
   }
+}
+
+// refine_lm with the gradient by forward differences of `residual(params, i)`.
+template <int N, typename F>
+void refine(std::array<double, N>& x, int count, const std::vector<double>& scale, F residual,
+            int iterations = 8) {
+  refine_lm<N>(x, count, scale,
+               [&](const std::array<double, N>& p, int i, Eigen::Matrix<double, N, 1>* g) {
+                 const double r = residual(p, i);
+                 if (g)
+                   for (int j = 0; j < N; ++j) {
+                     std::array<double, N> xp = p;
+                     const double step = 1e-6 * std::max(1.0, std::abs(p[j]));
+                     xp[j] += step;
+                     (*g)[j] = (residual(xp, i) - r) / step;
+                   }
+                 return r;
+               },
+               iterations);
+}
+
+// refine_lm with the residual's own analytic gradient.
+template <int N, typename F>
+void refine_analytic(std::array<double, N>& x, int count, const std::vector<double>& scale,
+                     F residual, int iterations = 8) {
+  refine_lm<N>(x, count, scale, residual, iterations);
 }
 
 struct Circle {
@@ -368,9 +390,10 @@ Circle robust_circle(const std::vector<std::array<double, 2>>& q, const std::vec
       in_tol.push_back(tol[i]);
     }
   std::array<double, 3> x{best.x, best.y, best.r};
-  refine<3>(x, static_cast<int>(in.size()), in_tol, [&](const std::array<double, 3>& p, int i) {
-    return len2(in[i][0] - p[0], in[i][1] - p[1]) - p[2];
-  });
+  refine_analytic<3>(x, static_cast<int>(in.size()), in_tol,
+                     [&](const std::array<double, 3>& p, int i, shape_residuals::Gradient<3>* g) {
+                       return shape_residuals::circle(p, in[i][0], in[i][1], g);
+                     });
   return {x[0], x[1], std::abs(x[2]), true};
 }
 
@@ -415,10 +438,11 @@ double outline_round_over_rectangle(const Samples& s, const Candidate& box,
   if (!start.ok) return 0;
   const int n = static_cast<int>(rim.size());
   std::array<double, 3> c{start.x, start.y, start.r};
-  auto circle_residual = [&](const std::array<double, 3>& p, int i) {
-    return len2(rim[i][0] - p[0], rim[i][1] - p[1]) - p[2];
+  auto circle_residual = [&](const std::array<double, 3>& p, int i,
+                             shape_residuals::Gradient<3>* g = nullptr) {
+    return shape_residuals::circle(p, rim[i][0], rim[i][1], g);
   };
-  refine<3>(c, n, tol, circle_residual);
+  refine_analytic<3>(c, n, tol, circle_residual);
   std::array<double, 5> q{box.ca, box.cb, box.theta, box.ex, box.ey};
   auto rectangle_residual = [&](const std::array<double, 5>& p, int i) {
     const double cs = std::cos(p[2]), sn = std::sin(p[2]);
@@ -530,13 +554,11 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
   double k = std::abs(den) > 1e-12 ? (n * srh - sh * sr) / den : 0.0;
   double r0 = (sr - k * sh) / n;
   std::array<double, 4> x{cyl.ca, cyl.cb, r0, r0 + k};
-  refine<4>(x, static_cast<int>(idx.size()), tol, [&](const std::array<double, 4>& p, int j) {
-    const Local& q = s.p[idx[j]];
-    const double t = (q.h - span_ref.h0) / span;
-    const double slope = (p[3] - p[2]) / span;
-    return (len2(q.a - p[0], q.b - p[1]) - (p[2] + (p[3] - p[2]) * t)) /
-           std::sqrt(1 + slope * slope);
-  });
+  refine_analytic<4>(x, static_cast<int>(idx.size()), tol,
+                     [&](const std::array<double, 4>& p, int j, shape_residuals::Gradient<4>* g) {
+                       const Local& q = s.p[idx[j]];
+                       return shape_residuals::cone(p, q.a, q.b, (q.h - span_ref.h0) / span, span, g);
+                     });
   c.ca = x[0];
   c.cb = x[1];
   c.r0 = std::max(0.0, x[2]);
@@ -571,12 +593,10 @@ Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
   const double r2 = x0[3] + ca * ca + cb * cb + hc * hc;
   if (!std::isfinite(r2) || r2 <= 0) return c;
   std::array<double, 4> x{ca, cb, hc, std::sqrt(r2)};
-  refine<4>(x, n, s.tol, [&](const std::array<double, 4>& p, int i) {
-    const Local& q = s.p[i];
-    return std::sqrt((q.a - p[0]) * (q.a - p[0]) + (q.b - p[1]) * (q.b - p[1]) +
-                     (q.h - p[2]) * (q.h - p[2])) -
-           p[3];
-  });
+  refine_analytic<4>(x, n, s.tol,
+                     [&](const std::array<double, 4>& p, int i, shape_residuals::Gradient<4>* g) {
+                       return shape_residuals::sphere(p, s.p[i].a, s.p[i].b, s.p[i].h, g);
+                     });
   c.ca = x[0];
   c.cb = x[1];
   c.hc = x[2];
@@ -587,11 +607,10 @@ Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
   if (!c.valid) return c;
   // Then it is fitted as resting: three parameters, its centre one radius up.
   std::array<double, 3> y{c.ca, c.cb, (c.hc + c.r0) / 2};
-  refine<3>(y, n, s.tol, [&](const std::array<double, 3>& p, int i) {
-    const Local& q = s.p[i];
-    const double r = std::abs(p[2]);
-    return std::sqrt((q.a - p[0]) * (q.a - p[0]) + (q.b - p[1]) * (q.b - p[1]) + (q.h - r) * (q.h - r)) - r;
-  });
+  refine_analytic<3>(y, n, s.tol,
+                     [&](const std::array<double, 3>& p, int i, shape_residuals::Gradient<3>* g) {
+                       return shape_residuals::resting_sphere(p, s.p[i].a, s.p[i].b, s.p[i].h, g);
+                     });
   c.ca = y[0];
   c.cb = y[1];
   c.hc = c.r0 = std::abs(y[2]);
@@ -609,11 +628,10 @@ Candidate fit_torus(const Samples& s, const Candidate& cyl, const ShapeRecognize
   for (const Local& p : s.p) rho.push_back(len2(p.a - cyl.ca, p.b - cyl.cb));
   const double minor0 = std::max(0.005, s.top / 2);
   std::array<double, 4> x{cyl.ca, cyl.cb, std::max(quantile(rho, 0.5), minor0 * 1.5), minor0};
-  refine<4>(x, n, s.tol, [&](const std::array<double, 4>& p, int i) {
-    const Local& q = s.p[i];
-    const double r = len2(q.a - p[0], q.b - p[1]);
-    return len2(r - p[2], q.h - p[3]) - std::abs(p[3]);
-  });
+  refine_analytic<4>(x, n, s.tol,
+                     [&](const std::array<double, 4>& p, int i, shape_residuals::Gradient<4>* g) {
+                       return shape_residuals::torus(p, s.p[i].a, s.p[i].b, s.p[i].h, g);
+                     });
   c.ca = x[0];
   c.cb = x[1];
   c.major = std::abs(x[2]);
@@ -740,8 +758,10 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params, bool fa
   for (size_t i = 0; i < hull.size(); ++i) {
     const auto& p1 = hull[i];
     const auto& p2 = hull[(i + 1) % hull.size()];
-    const double theta = std::atan2(p2[1] - p1[1], p2[0] - p1[0]);
-    const double cs = std::cos(theta), sn = std::sin(theta);
+    // The edge's unit direction (cos and sin of its azimuth); the angle is taken only
+    // for the best edge.
+    const double ex = p2[0] - p1[0], ey = p2[1] - p1[1], length = len2(ex, ey);
+    const double cs = ex / length, sn = ey / length;
     double x0 = 1e18, x1 = -1e18, y0 = 1e18, y1 = -1e18;
     for (const auto& p : hull) {
       const double x = cs * p[0] + sn * p[1], y = -sn * p[0] + cs * p[1];
@@ -752,7 +772,7 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params, bool fa
     }
     if ((x1 - x0) * (y1 - y0) < best_area) {
       best_area = (x1 - x0) * (y1 - y0);
-      best_theta = theta;
+      best_theta = std::atan2(ey, ex);
     }
   }
   // With normals, the side faces give the orientation (normal azimuths modulo 90
@@ -763,9 +783,9 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params, bool fa
     double c4 = 0, s4 = 0;
     for (size_t i = 0; i < s.p.size(); ++i) {
       if (std::abs(s.up[i]) > 0.4) continue;
-      const double phi = std::atan2(s.nb[i], s.na[i]);
-      c4 += std::cos(4 * phi);
-      s4 += std::sin(4 * phi);
+      const auto [cos4, sin4] = shape_residuals::fourfold(s.na[i], s.nb[i]);
+      c4 += cos4;
+      s4 += sin4;
       sides.push_back(static_cast<int>(i));
     }
     if (sides.size() >= 30 && len2(c4, s4) > 0.3 * sides.size())
@@ -878,9 +898,10 @@ Candidate fit_lying_cylinder(const Samples& s, const Candidate& box,
   for (size_t i = 0; i < s.p.size(); ++i)
     w[i] = -sn * (s.p[i].a - box.ca) + cs * (s.p[i].b - box.cb);
   std::array<double, 2> x{0.0, std::max(0.005, s.top / 2)};
-  refine<2>(x, static_cast<int>(s.p.size()), tol, [&](const std::array<double, 2>& p, int i) {
-    return len2(w[i] - p[0], s.p[i].h - std::abs(p[1])) - std::abs(p[1]);
-  });
+  refine_analytic<2>(x, static_cast<int>(s.p.size()), tol,
+                     [&](const std::array<double, 2>& p, int i, shape_residuals::Gradient<2>* g) {
+                       return shape_residuals::lying_circle(p, w[i], s.p[i].h, g);
+                     });
   c.theta = box.theta;
   c.ca = box.ca - sn * x[0];
   c.cb = box.cb + cs * x[0];

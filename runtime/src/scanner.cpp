@@ -13,6 +13,7 @@
 #include "annex/runtime/object_segmenter.h"
 #include "occlusion_join.h"
 #include "stacking.h"
+#include "smallest_eigenvector.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -661,9 +662,7 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
     Eigen::Matrix3d sq;
     sq << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
     const Eigen::Matrix3d cov = sq / n - mean * mean.transpose();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-    es.computeDirect(cov);
-    Eigen::Vector3d nn = es.eigenvectors().col(0);
+    Eigen::Vector3d nn = smallest_eigenvector(cov);
     const Eigen::Vector3d pv(p.x, p.y, p.z);
     if (nn.dot(pv) > 0) nn = -nn;
     // Veil points (mixed pixels along depth edges) lie on surfaces seen edge-on.
