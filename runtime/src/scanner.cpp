@@ -289,31 +289,23 @@ Hull2 convex_hull(const std::vector<Vec3>& in, Vec3 n) {
 }
 
 // A later support is parallel to the first one (a room's supports share one up), so it
-// is one number: its height along that normal. The heights of the pool's points that
-// face up (`use`, facing_up below) are binned by the plane band and the densest band
-// wins: a support concentrates at one height, and walls, legs and objects' sides, which
-// spread over every height, face sideways and take no part. Unlike a RANSAC triple, this
-// finds a table seen at a grazing angle from just above its height, where dropout leaves
-// a thin, holed strip and three-point normals scatter. Least squares on the up-facing
-// points in the band then refines the winner when the refit stays parallel to the first
-// support. `heights`: each point's height above the first support; `peak_points` (and
-// `inliers`): the up-facing points in the winning band, `peak_height` its height.
+// is one number: its height along that normal. The pool's heights are binned by the
+// plane band and the densest band wins: walls, legs and objects spread over every
+// height, a support concentrates at one. Unlike a RANSAC triple, this finds a table
+// seen at a grazing angle from just above its height, where dropout leaves a thin,
+// holed strip and three-point normals scatter. Least squares then refines the winner
+// when the refit stays parallel to the first support.
 PlaneSearch find_parallel_plane(const ScanParams& params, const PlaneFit& first,
-                                const std::vector<Vec3>& pts, const std::vector<double>& heights,
-                                const std::vector<char>& use, double max_tilt_deg,
-                                int& peak_points, double& peak_height) {
+                                const std::vector<Vec3>& pts, double max_tilt_deg) {
   PlaneSearch best;
-  peak_points = 0;
-  peak_height = 0;
   if (pts.size() < 50) return best;
   const double band = params.plane_distance_m;
   // Heights above the first plane; the camera (height first.d) must be above the support.
   const double lo = -params.max_depth_m, hi = first.d;
   const int bins = static_cast<int>((hi - lo) / band) + 2;
   std::vector<int> count(static_cast<size_t>(bins), 0);
-  for (size_t k = 0; k < pts.size(); ++k) {
-    if (!use[k]) continue;
-    const double h = heights[k];
+  for (const Vec3& p : pts) {
+    const double h = dot(first.n, p) + first.d;
     if (h <= lo || h >= hi) continue;
     ++count[static_cast<size_t>((h - lo) / band)];
   }
@@ -324,8 +316,6 @@ PlaneSearch find_parallel_plane(const ScanParams& params, const PlaneFit& first,
     if (c > peak_count) peak_count = c, peak = k;
   }
   if (peak < 0) return best;
-  peak_points = peak_count;
-  peak_height = lo + peak * band;
   PlaneFit plane{first.n, first.d - (lo + peak * band), true};
   if (plane.d <= 0) return best;
   const double cos_max = std::cos(max_tilt_deg * 3.14159265358979 / 180.0);
@@ -343,8 +333,7 @@ PlaneSearch find_parallel_plane(const ScanParams& params, const PlaneFit& first,
     if (dot(refit.n, first.n) < cos_max || refit.d <= 0) break;
     plane = refit;
   }
-  // The caller counts the inliers (its one pass over the pool finds them).
-  best.inliers = peak_count;
+  for (const Vec3& p : pts) best.inliers += std::abs(dot(plane.n, p) + plane.d) < band;
   best.plane = plane;
   return best;
 }
@@ -363,40 +352,6 @@ struct PlaneRegions {
 struct GridCell {
   int x = 0, y = 0;
 };
-
-// Which of `pixels` lie on a surface facing up rather than sideways: the normal through
-// their grid neighbours four grid steps on along the row and the column within 45
-// degrees of `up`, nearer to horizontal than to vertical. Depth noise tilts a far
-// floor's normals by some 30 degrees at 3.5 m (four grid steps span 5 cm there), not a
-// wall's by 45.
-std::vector<char> facing_up(const Frame& f, const std::vector<int>& pixels,
-                            const std::vector<GridCell>& cells, int stride, Vec3 up) {
-  const int reach = 4 * stride, w = f.width, h = f.height;
-  const float ux = static_cast<float>(up.x), uy = static_cast<float>(up.y), uz = static_cast<float>(up.z);
-  std::vector<char> out(pixels.size(), 0);
-  const PointXYZRGB* pts = f.points.data();
-  // A NaN depth fails `z > 0`; a pixel with depth has finite coordinates here (the
-  // pool holds valid pixels, and a NaN neighbour coordinate only makes the test fail).
-  for (size_t k = 0; k < pixels.size(); ++k) {
-    const int i = pixels[k], x = cells[k].x * stride, y = cells[k].y * stride;
-    const PointXYZRGB& c = pts[i];
-    // Along the row and along the column: from the pixel to its neighbour four grid
-    // steps on, or from the one as far back where that one has no depth.
-    const int right = x + reach < w && pts[i + reach].z > 0 ? i + reach
-                      : x >= reach && pts[i - reach].z > 0  ? i - reach
-                                                            : -1;
-    const int down = y + reach < h && pts[i + reach * w].z > 0 ? i + reach * w
-                     : y >= reach && pts[i - reach * w].z > 0  ? i - reach * w
-                                                               : -1;
-    if (right < 0 || down < 0) continue;
-    const float ax = pts[right].x - c.x, ay = pts[right].y - c.y, az = pts[right].z - c.z;
-    const float bx = pts[down].x - c.x, by = pts[down].y - c.y, bz = pts[down].z - c.z;
-    const float nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
-    const float along = nx * ux + ny * uy + nz * uz, len2 = nx * nx + ny * ny + nz * nz;
-    out[k] = len2 > 0 && 2 * along * along >= len2;  // cos^2 >= cos^2(45 degrees)
-  }
-  return out;
-}
 
 // `inliers`: the strided pixels still free within the plane's depth-scaled band, and
 // `cells` their grid cells.
@@ -595,39 +550,22 @@ std::vector<std::vector<int>> grow_clusters(const Frame& f, const std::vector<ch
 }
 
 // Whether a cluster's surface runs on above the height band: grid neighbours of its
-// pixels that are above max_height_m yet on the cluster's surface. Walls, cupboards and
-// people do; an object on the support ends below the band's top. A neighbour is on the
-// surface when it is within the cluster tolerance in 3D, or when it continues the line
-// through the pixel and its opposite neighbour within that tolerance (and within three
-// tolerances of it): a cupboard's front seen at a grazing angle from above spaces its
-// rows wider than the depth noise, but evenly, while an object's top edge against the
-// wall behind it is a step the line misses by far.
+// pixels that are above max_height_m yet within the cluster tolerance in 3D. Walls,
+// cupboards and people do; an object on the support ends below the band's top.
 bool continues_above(const Frame& f, const std::vector<int>& grid_pixels, int step,
                      const PlaneFit& plane, const ScanParams& params) {
   size_t joins = 0;
-  auto point = [&](int x, int y) -> const PointXYZRGB* {
-    if (x < 0 || y < 0 || x >= f.width || y >= f.height) return nullptr;
-    const PointXYZRGB& q = f.points[static_cast<size_t>(y) * f.width + x];
-    return valid(q) ? &q : nullptr;
-  };
   for (int i : grid_pixels) {
     const int x = i % f.width, y = i / f.width;
     const PointXYZRGB& p = f.points[i];
     const double tol = cluster_tolerance(params, p.z), tol2 = tol * tol;
-    const int nb[4][2] = {{-step, 0}, {step, 0}, {0, -step}, {0, step}};
-    for (const auto& d : nb) {
-      const PointXYZRGB* q = point(x + d[0], y + d[1]);
-      if (!q || dot(plane.n, to_vec(*q)) + plane.d <= params.max_height_m) continue;
-      const double dx = q->x - p.x, dy = q->y - p.y, dz = q->z - p.z;
-      const double gap2 = dx * dx + dy * dy + dz * dz;
-      if (gap2 <= tol2) {
-        ++joins;
-        continue;
-      }
-      const PointXYZRGB* r = point(x - d[0], y - d[1]);
-      if (!r || gap2 > 9 * tol2) continue;
-      const double ex = dx - (p.x - r->x), ey = dy - (p.y - r->y), ez = dz - (p.z - r->z);
-      joins += ex * ex + ey * ey + ez * ez <= tol2;
+    const int nb[4][2] = {{x - step, y}, {x + step, y}, {x, y - step}, {x, y + step}};
+    for (const auto& xy : nb) {
+      if (xy[0] < 0 || xy[1] < 0 || xy[0] >= f.width || xy[1] >= f.height) continue;
+      const PointXYZRGB& q = f.points[static_cast<size_t>(xy[1]) * f.width + xy[0]];
+      if (!valid(q) || dot(plane.n, to_vec(q)) + plane.d <= params.max_height_m) continue;
+      const double dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
+      joins += dx * dx + dy * dy + dz * dz <= tol2;
     }
   }
   // A few joins suffice for a thin leg seen from afar (a handful of grid pixels wide).
@@ -870,95 +808,31 @@ struct Found {
   std::vector<int> pool = strided;
   std::vector<GridCell> pool_cells = strided_cells;
   std::vector<Vec3> pool_pts;
-  std::vector<double> pool_band;  // each pool point's plane band (plane_band at its depth)
   pool_pts.reserve(pool.size());
-  pool_band.reserve(pool.size());
-  for (int i : pool) {
-    pool_pts.push_back(to_vec(f.points[i]));
-    pool_band.push_back(plane_band(params, pool_pts.back().z));
-  }
+  for (int i : pool) pool_pts.push_back(to_vec(f.points[i]));
   const int min_region = std::max(1, params.min_plane_points / (4 * stride * stride));
   std::vector<std::pair<PlaneFit, std::vector<PlaneRegions>>> planes;
   std::vector<int> inliers;
   std::vector<GridCell> inlier_cells;
-  // After the first plane: which pool points face up (facing_up), the later searches'
-  // candidates. The loop ends when no band of them is as large as a support's smallest
-  // region, so every horizontal surface of support size is tried, however many walls
-  // and objects the frame holds; max_planes bounds the supports kept.
-  std::vector<char> pool_up;
-  std::vector<double> pool_h;  // with pool_up: each pool point's height above the first plane
-  bool up_ready = false;
-  // Up-facing points within min_support_gap_m of a kept plane can give no later support
-  // (supports lie that far apart, below): they leave the candidates with its inliers.
-  auto clear_near = [&](const PlaneFit& kept) {
-    for (size_t k = 0; k < pool.size(); ++k)
-      if (pool_up[k] && std::abs(dot(kept.n, pool_pts[k]) + kept.d) < params.min_support_gap_m)
-        pool_up[k] = 0;
-  };
-  while (static_cast<int>(planes.size()) < params.max_planes && pool.size() >= 50) {
+  for (int attempt = 0; attempt < params.max_planes && pool.size() >= 50; ++attempt) {
     // A plane holds at most the whole pool: when that is below min_plane_points no
     // search can give one (the search would end the loop the same way).
     if (static_cast<long long>(pool.size()) * stride * stride < params.min_plane_points) break;
-    if (!planes.empty() && !up_ready) {
-      const PlaneFit& first = planes.front().first;
-      pool_up = facing_up(f, pool, pool_cells, stride, first.n);
-      pool_h.resize(pool.size());
-      for (size_t k = 0; k < pool.size(); ++k) pool_h[k] = dot(first.n, pool_pts[k]) + first.d;
-      up_ready = true;
-      clear_near(first);
-    }
-    int peak = 0;
-    double peak_height = 0;
-    std::vector<size_t> at_peak;  // the pool's up-facing points in the peak's band
     const PlaneSearch ps =
         planes.empty() ? find_plane(f, params, up, params.max_plane_angle_deg, pool, pool_pts, free, false,
                                   rng)
-                       : find_parallel_plane(params, planes.front().first, pool_pts, pool_h, pool_up,
-                                             0.5 * params.max_support_tilt_deg, peak, peak_height);
-    // A band with fewer up-facing points than a support's smallest region holds no
-    // support. Seen at a grazing angle (a level camera 26 cm above a table 2.5 m away)
-    // a fifth of a table's pixels still face up: dropout takes most of the rest.
-    if (!planes.empty() && peak < min_region) break;
-    if (!ps.plane.ok) break;
-    if (planes.empty() && ps.inliers * stride * stride < params.min_plane_points) break;
-    if (!planes.empty()) {
-      // The up-facing points of the peak's band (its pair of bins, peak_height +- band).
-      const double band = params.plane_distance_m;
-      for (size_t k = 0; k < pool.size(); ++k)
-        if (pool_up[k] && pool_h[k] >= peak_height - 1.5 * band && pool_h[k] < peak_height + 1.5 * band)
-          at_peak.push_back(k);
-      // The band an earlier support's own (its noisy far edge left outside its band;
-      // supports lie min_support_gap_m apart, below): these points leave the
-      // candidates, and the next band is tried.
-      bool echo = false;
-      for (const auto& [other, other_regions] : planes) {
-        std::vector<double> hs;
-        for (size_t m = 0; m < at_peak.size(); m += 7)
-          hs.push_back(dot(other.n, pool_pts[at_peak[m]]) + other.d);
-        if (hs.empty()) continue;
-        std::nth_element(hs.begin(), hs.begin() + hs.size() / 2, hs.end());
-        echo = echo || std::abs(hs[hs.size() / 2]) < params.min_support_gap_m;
-      }
-      if (echo) {
-        for (size_t k : at_peak) pool_up[k] = 0;
-        continue;
-      }
-    }
+                       : find_parallel_plane(params, planes.front().first, pool_pts,
+                                             0.5 * params.max_support_tilt_deg);
+    if (!ps.plane.ok || ps.inliers * stride * stride < params.min_plane_points) break;
     // One pass finds the inliers for the regions and for leaving the pool.
     inliers.clear();
     inlier_cells.clear();
     for (size_t k = 0; k < pool.size(); ++k) {
       const Vec3& p = pool_pts[k];
-      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < pool_band[k]) {
+      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < plane_band(params, p.z)) {
         inliers.push_back(pool[k]);
         inlier_cells.push_back(pool_cells[k]);
       }
-    }
-    if (!planes.empty() && static_cast<int>(inliers.size()) * stride * stride < params.min_plane_points) {
-      // Too few points at this height (an object's top): its up-facing points leave
-      // the candidates, and the next band is tried.
-      for (size_t k : at_peak) pool_up[k] = 0;
-      continue;
     }
     std::vector<PlaneRegions> regions =
         plane_regions(f, inliers, inlier_cells, stride, min_region, true);
@@ -966,16 +840,10 @@ struct Found {
     for (int i : inliers) free[i] = 0;
     size_t kept = 0;
     for (size_t k = 0; k < pool.size(); ++k)
-      if (free[pool[k]]) {
-        if (up_ready) pool_up[kept] = pool_up[k], pool_h[kept] = pool_h[k];
-        pool_band[kept] = pool_band[k];
-        pool[kept] = pool[k], pool_cells[kept] = pool_cells[k], pool_pts[kept++] = pool_pts[k];
-      }
+      if (free[pool[k]]) pool[kept] = pool[k], pool_cells[kept] = pool_cells[k], pool_pts[kept++] = pool_pts[k];
     pool.resize(kept);
-    pool_band.resize(kept);
     pool_cells.resize(kept);
     pool_pts.resize(kept);
-    if (up_ready) pool_up.resize(kept), pool_h.resize(kept);
     int total = 0;
     for (const PlaneRegions& r : regions) total += static_cast<int>(r.members.size()) * stride * stride;
     if (total < params.min_plane_points) continue;
@@ -1000,7 +868,6 @@ struct Found {
     }
     if (!apart) continue;
     planes.emplace_back(ps.plane, std::move(regions));
-    if (up_ready) clear_near(ps.plane);
   }
   // The lowest plane is the floor (or the one support seen): one support of all its
   // regions, as a floor seen between furniture is one floor. Every other plane gives

@@ -41,12 +41,10 @@ struct ScanParams {
   double plane_noise_factor = 2.5;
   int plane_iterations = 300;       // RANSAC samples
   int min_plane_points = 2000;      // full-resolution points
-  // Supports are extracted one after another (each plane's inliers leave the search):
-  // the first by RANSAC, the others at the heights where up-facing points concentrate,
-  // until no such height holds a quarter of min_plane_points; at most this many planes are
-  // kept (a bound on the cost, not a search budget: walls and rejected heights do not
-  // count). Every near-horizontal one holding min_plane_points counts.
-  int max_planes = 10;
+  // Supports are extracted one after another (each plane's inliers leave the search),
+  // at most this many planes tried; every near-horizontal one holding
+  // min_plane_points counts.
+  int max_planes = 6;
   // Supports after the first are within this angle of its normal (a room's floor,
   // tables and shelves share one up) and span at least this much (a carton's top is
   // not a support; a box top of 20 x 20 cm is).
