@@ -8,12 +8,13 @@
 //   world     the widened generator: class, size, support and cone direction per
 //             distance band, a confusion matrix per shape, false props and slivers.
 // Usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N]
-//        [--world-seed FIRST] [--skip-pcl] [--world-only] [--speed-only] [--verbose] [--png-dir DIR]
+//        [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] [--verbose] [--png-dir DIR]
 //        (--repeat: our scans per frame, 30; --pcl-repeat: PCL's, interleaved with ours,
 //        default max(5, repeat / 3); --threads: our worker threads, 2; --speed-only: the
 //        speed section alone, e.g. under callgrind; --verbose: every world-set miss,
 //        misclassification, leg and sliver; --png-dir: the world scenes' pictures, frames;
-//        --world-seed: the world set's first seed, 2001: the tuned set; 5001: held out)
+//        --world-seed: the world set's first seed, 2001: the tuned set; 5001: held out;
+//        --rooms: room_scene_params, table heights 0.4-1.1 m and a rolled camera)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -291,7 +292,9 @@ std::string truth_class(const PhysicalPrimitive& p) {
 
 // `first_seed`: the first scene's seed (2001, the set the scanner was tuned on; any
 // other start is a held-out set).
-void world_set(int scenes, int first_seed, bool verbose, const std::string& png_dir) {
+// `room`: room_scene_params (table heights 0.4-1.1 m, camera roll) instead of
+// world_scene_params.
+void world_set(int scenes, int first_seed, bool room, bool verbose, const std::string& png_dir) {
   const char* bands[] = {"< 1.5 m", "1.5-2.5 m", "> 2.5 m"};
   BandTally tally[3];
   std::map<std::string, std::map<std::string, int>> confusion;
@@ -300,7 +303,9 @@ void world_set(int scenes, int first_seed, bool verbose, const std::string& png_
   std::vector<double> scan_ms;
   for (int k = 1; k <= scenes; ++k) {
     const int seed = first_seed + k - 1;
-    const Result<SyntheticScene> scene = generate_scene(world_scene_params(static_cast<std::uint64_t>(seed)));
+    const auto seed64 = static_cast<std::uint64_t>(seed);
+    const Result<SyntheticScene> scene =
+        generate_scene(room ? room_scene_params(seed64) : world_scene_params(seed64));
     if (!scene) {
       std::printf("  seed %d: %s\n", seed, scene.error().format().c_str());
       continue;
@@ -417,9 +422,10 @@ void world_set(int scenes, int first_seed, bool verbose, const std::string& png_
       for (size_t i = 0; i < a.size() && i < g.size(); ++i) b.errors.push_back(std::abs(a[i] - g[i]));
     }
   }
-  std::printf("world set: %d generated scenes (seeds %d-%d, world_scene_params), %d scans "
+  std::printf("world set: %d generated scenes (seeds %d-%d, %s), %d scans "
               "failed, scan median_ms=%.1f\n",
-              scans, first_seed, first_seed + scenes - 1, failures, median(scan_ms));
+              scans, first_seed, first_seed + scenes - 1,
+              room ? "room_scene_params" : "world_scene_params", failures, median(scan_ms));
   std::printf("  %-10s %7s %6s %8s %10s %10s %9s %9s\n", "band", "objects", "found", "class",
               "median_mm", "p90_mm", "support", "cone_dir");
   for (int i = 0; i < 3; ++i) {
@@ -479,7 +485,7 @@ void real_clusters(const Frame& frame) {
 
 int main(int argc, char** argv) {
   int repeat = 30, scenes = 100, world = 60, world_seed = 2001, pcl_repeat = -1, threads = ScanParams{}.threads;
-  bool pcl = true, world_only = false, speed_only = false, verbose = false;
+  bool pcl = true, world_only = false, speed_only = false, verbose = false, room = false;
   std::string png_dir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -487,6 +493,7 @@ int main(int argc, char** argv) {
     else if (a == "--scenes" && i + 1 < argc) scenes = std::max(1, std::atoi(argv[++i]));
     else if (a == "--world" && i + 1 < argc) world = std::max(0, std::atoi(argv[++i]));
     else if (a == "--world-seed" && i + 1 < argc) world_seed = std::atoi(argv[++i]);
+    else if (a == "--rooms") room = true;
     else if (a == "--pcl-repeat" && i + 1 < argc) pcl_repeat = std::max(1, std::atoi(argv[++i]));
     else if (a == "--threads" && i + 1 < argc) threads = std::max(1, std::atoi(argv[++i]));
     else if (a == "--speed-only") speed_only = true;
@@ -495,12 +502,12 @@ int main(int argc, char** argv) {
     else if (a == "--verbose") verbose = true;
     else if (a == "--png-dir" && i + 1 < argc) png_dir = argv[++i];
     else {
-      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N] [--world-seed FIRST] [--skip-pcl] [--world-only] [--speed-only] [--verbose] [--png-dir DIR]\n");
+      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N] [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] [--verbose] [--png-dir DIR]\n");
       return 2;
     }
   }
   if (world_only) {
-    world_set(world, world_seed, verbose, png_dir);
+    world_set(world, world_seed, room, verbose, png_dir);
     return 0;
   }
   const std::filesystem::path real =
@@ -517,7 +524,7 @@ int main(int argc, char** argv) {
   else std::printf("speed: ../shared/data/real absent, real frame skipped\n");
   if (speed_only) return 0;
   speed(synthetic(7).frame, "generated scene seed 7", repeat, pcl_repeat, threads);
-  if (world > 0) world_set(world, world_seed, verbose, png_dir);
+  if (world > 0) world_set(world, world_seed, room, verbose, png_dir);
   accuracy_and_ransac(scenes, std::min(scenes, 30));
   if (real_frame) real_clusters(*real_frame);
   return 0;

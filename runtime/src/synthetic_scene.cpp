@@ -30,9 +30,13 @@ struct CameraAxes {
   Vec3 x, y, z;
 };
 
-CameraAxes camera_axes(double tilt_deg) {
+CameraAxes camera_axes(double tilt_deg, double roll_deg = 0) {
   const double s = std::sin(deg_to_rad(tilt_deg)), c = std::cos(deg_to_rad(tilt_deg));
-  return {{1, 0, 0}, {0, -s, -c}, {0, c, -s}};
+  const Vec3 x{1, 0, 0}, y{0, -s, -c};
+  if (roll_deg == 0) return {x, y, {0, c, -s}};
+  // Rolled about the optical axis: the image's x and y turn in their plane.
+  const double sr = std::sin(deg_to_rad(roll_deg)), cr = std::cos(deg_to_rad(roll_deg));
+  return {x * cr + y * sr, y * cr - x * sr, {0, c, -s}};
 }
 
 // Mixes the scene seed with a frame index so every frame has its own noise stream.
@@ -183,7 +187,7 @@ double kinect_axial_sigma_m(double z_m) {
 }
 
 Vec3 table_to_camera_direction(const SyntheticScene& scene, Vec3 d) {
-  const CameraAxes a = camera_axes(scene.camera_tilt_deg);
+  const CameraAxes a = camera_axes(scene.camera_tilt_deg, scene.camera_roll_deg);
   return {dot(a.x, d), dot(a.y, d), dot(a.z, d)};
 }
 
@@ -213,6 +217,10 @@ Result<SyntheticScene> generate_scene(const SyntheticSceneParams& params) {
       !(params.camera_tilt_min_deg >= 0) || params.camera_tilt_max_deg > 89 ||
       params.camera_tilt_max_deg < params.camera_tilt_min_deg)
     return Error{"camera distance or tilt range out of bounds", {}};
+  if (!(params.table_height_min_m >= 0.2) || params.table_height_max_m < params.table_height_min_m ||
+      params.table_height_max_m > 1.5 || !(params.camera_roll_max_deg >= 0) ||
+      params.camera_roll_max_deg > 30)
+    return Error{"table height range outside 0.2-1.5 m or camera roll outside 0-30 degrees", {}};
   if (params.side_support_objects < 0 || !(params.cut_share >= 0 && params.cut_share <= 1))
     return Error{"side support objects must not be negative, cut share within [0, 1]", {}};
 
@@ -241,9 +249,11 @@ std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std
   s.camera = params.camera;
   s.table_half_x_m = uniform(rng, 0.6, 0.8);
   s.table_half_y_m = uniform(rng, 0.35, 0.5);
-  s.floor_depth_m = uniform(rng, 0.72, 0.78);
+  s.floor_depth_m = uniform(rng, params.table_height_min_m, params.table_height_max_m);
   s.wall_y_m = s.table_half_y_m + uniform(rng, 0.2, 0.8);
   s.camera_tilt_deg = uniform(rng, params.camera_tilt_min_deg, params.camera_tilt_max_deg);
+  if (params.camera_roll_max_deg > 0)
+    s.camera_roll_deg = uniform(rng, -params.camera_roll_max_deg, params.camera_roll_max_deg);
   const double distance = uniform(rng, params.camera_distance_min_m, params.camera_distance_max_m);
   const Vec3 aim{uniform(rng, -0.1, 0.1), uniform(rng, -0.05, 0.05), 0};
   s.camera_position = aim - camera_axes(s.camera_tilt_deg).z * distance;
@@ -390,6 +400,14 @@ SyntheticSceneParams world_scene_params(std::uint64_t seed) {
   return p;
 }
 
+SyntheticSceneParams room_scene_params(std::uint64_t seed) {
+  SyntheticSceneParams p = world_scene_params(seed);
+  p.table_height_min_m = 0.4;
+  p.table_height_max_m = 1.1;
+  p.camera_roll_max_deg = 5;
+  return p;
+}
+
 SyntheticObject resting_object(ShapeKind kind, std::vector<double> dimensions_m, double x_m,
                                double y_m, double yaw_deg) {
   SyntheticObject o;
@@ -415,7 +433,7 @@ SyntheticFrame render_scene(const SyntheticScene& base, const SensorNoiseParams&
                             int frame_index) {
   const SyntheticScene s = scene_at_frame(base, frame_index);
   const CameraIntrinsics& cam = s.camera;
-  const CameraAxes axes = camera_axes(s.camera_tilt_deg);
+  const CameraAxes axes = camera_axes(s.camera_tilt_deg, s.camera_roll_deg);
   synthetic_pixels::Draws draws{std::mt19937_64(mix_seed(s.seed, static_cast<std::uint64_t>(frame_index)))};
   const double jitter = noise.enabled ? noise.lateral_sigma_px : 0.0;
 

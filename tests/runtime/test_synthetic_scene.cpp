@@ -525,5 +525,49 @@ TEST(SyntheticWorld, SameSeedSameScene) {
   EXPECT_EQ(fa.labels, fb.labels);
 }
 
+// --- the held-out widening (room_scene_params) ---
+
+TEST(SyntheticRooms, TableHeightsFromCoffeeTableToCounterAndARolledCamera) {
+  double low = 9, high = 0, roll_min = 9, roll_max = -9;
+  for (std::uint64_t seed = 5001; seed <= 5030; ++seed) {
+    const Result<SyntheticScene> s = generate_scene(room_scene_params(seed));
+    ASSERT_TRUE(s.ok()) << s.error().format();
+    EXPECT_GE(s->floor_depth_m, 0.4);
+    EXPECT_LE(s->floor_depth_m, 1.1);
+    EXPECT_LE(std::abs(s->camera_roll_deg), 5.0);
+    low = std::min(low, s->floor_depth_m), high = std::max(high, s->floor_depth_m);
+    roll_min = std::min(roll_min, s->camera_roll_deg), roll_max = std::max(roll_max, s->camera_roll_deg);
+    // The legs reach the floor whatever the table's height.
+    for (const SyntheticBlock& b : s->furniture)
+      if (b.role == SyntheticBlock::Role::leg)
+        EXPECT_NEAR(b.center.z - b.size_m.z * 0.5, -s->floor_depth_m, 1e-9);
+    // Rolled, the table's up leans sideways in the image by the roll: its x component
+    // is -sin(roll) times its length in the image plane.
+    const Vec3 up = table_to_camera_direction(*s, {0, 0, 1});
+    const double in_image = std::hypot(up.x, up.y);
+    EXPECT_NEAR(up.x / in_image, -std::sin(s->camera_roll_deg * 3.14159265358979 / 180), 1e-9);
+    EXPECT_NEAR(norm(up), 1.0, 1e-12);
+  }
+  EXPECT_LT(low, 0.55);
+  EXPECT_GT(high, 0.95);
+  EXPECT_LT(roll_min, -2.5);
+  EXPECT_GT(roll_max, 2.5);
+  // The tuned set is what it was: level camera, tables 72 to 78 cm.
+  const Result<SyntheticScene> w = generate_scene(world_scene_params(2003));
+  ASSERT_TRUE(w.ok());
+  EXPECT_EQ(w->camera_roll_deg, 0);
+  EXPECT_GE(w->floor_depth_m, 0.72);
+  EXPECT_LE(w->floor_depth_m, 0.78);
+}
+
+TEST(SyntheticRooms, RangesOutOfBoundsAreErrors) {
+  SyntheticSceneParams p = room_scene_params(5001);
+  p.table_height_max_m = 0.3;  // below the minimum
+  EXPECT_FALSE(generate_scene(p).ok());
+  p = room_scene_params(5001);
+  p.camera_roll_max_deg = 45;
+  EXPECT_FALSE(generate_scene(p).ok());
+}
+
 }  // namespace
 }  // namespace annex

@@ -61,6 +61,13 @@ struct SyntheticSceneParams {
   // Sequences: each object drifts on the table and spins about its axis per frame.
   double max_speed_m_per_frame = 0.003;
   double max_spin_deg_per_frame = 2.0;
+  // The table top's height above the floor, drawn from this range (a coffee table to a
+  // bar counter: room_scene_params draws 0.4 to 1.1 m).
+  double table_height_min_m = 0.72;
+  double table_height_max_m = 0.78;
+  // The camera rolled about its optical axis by up to this many degrees either way (a
+  // hand-held or head-worn camera is seldom level); drawn only when above 0.
+  double camera_roll_max_deg = 0;
   // A box (an arm, say) crossing the view between camera and table, for tracking tests.
   bool occluder = false;
   double occluder_speed_m_per_frame = 0.012;
@@ -104,6 +111,7 @@ struct SyntheticScene {
   CameraIntrinsics camera;
   Vec3 camera_position;       // table frame
   double camera_tilt_deg = 45;  // the optical axis points along (0, cos, -sin)
+  double camera_roll_deg = 0;   // about the optical axis, after the tilt
   double table_half_x_m = 0.7;
   double table_half_y_m = 0.45;
   double table_thickness_m = 0.03;
@@ -118,6 +126,10 @@ struct SyntheticScene {
 // tilt, legs, a second support with objects, tall furniture, cones either way up,
 // flat and cut, a quarter of the objects cut by the image border.
 SyntheticSceneParams world_scene_params(std::uint64_t seed);
+
+// world_scene_params widened by what it was not tuned on (held out): table heights 0.4
+// to 1.1 m and a camera rolled up to 5 degrees either way.
+SyntheticSceneParams room_scene_params(std::uint64_t seed);
 
 // The Kinect sensor model applied while rendering.
 struct SensorNoiseParams {
