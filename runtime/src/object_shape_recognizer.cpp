@@ -252,40 +252,54 @@ template <int N, typename F>
 void refine_lm(std::array<double, N>& x, int count, const std::vector<double>& scale, F residual,
                int iterations) {
   using Gradient = Eigen::Matrix<double, N, 1>;
+  using Normal = Eigen::Matrix<double, N, N>;
   if (count < N + 1) return;
   double lambda = 1e-3;
-  auto cost = [&](const std::array<double, N>& p) {
+  // The Huber cost at p and, when `jtj` is not null, the weighted normal equations there
+  // (one pass: a step taken needs both at its new point).
+  auto evaluate = [&](const std::array<double, N>& p, Normal* jtj, Gradient* jtr) {
     double c = 0;
+    if (jtj) {
+      jtj->setZero();
+      jtr->setZero();
+    }
     for (int i = 0; i < count; ++i) {
-      const double r = residual(p, i, static_cast<Gradient*>(nullptr)), k = 2.0 * scale[i];
+      Gradient g;
+      const double r = residual(p, i, jtj ? &g : static_cast<Gradient*>(nullptr)), k = 2.0 * scale[i];
       c += std::abs(r) < k ? r * r : 2 * k * std::abs(r) - k * k;
+      if (!jtj) continue;
+      const double w = std::abs(r) < k ? 1.0 : k / std::abs(r);
+      *jtj += w * g * g.transpose();
+      *jtr += w * g * r;
     }
     return c;
   };
-  double current = cost(x);
+  Normal jtj, next_jtj;
+  Gradient jtr, next_jtr;
+  double current = evaluate(x, &jtj, &jtr);
   for (int it = 0; it < iterations; ++it) {
-    Eigen::Matrix<double, N, N> jtj = Eigen::Matrix<double, N, N>::Zero();
-    Gradient jtr = Gradient::Zero();
-    for (int i = 0; i < count; ++i) {
-      Gradient g;
-      const double r = residual(x, i, &g), k = 2.0 * scale[i];
-      const double w = std::abs(r) < k ? 1.0 : k / std::abs(r);
-      jtj += w * g * g.transpose();
-      jtr += w * g * r;
-    }
+    const bool last = it + 1 == iterations;
     bool improved = false;
     for (int attempt = 0; attempt < 6 && !improved; ++attempt) {
-      Eigen::Matrix<double, N, N> a = jtj;
+      Normal a = jtj;
       for (int j = 0; j < N; ++j) a(j, j) += lambda * (jtj(j, j) + 1e-12);
       const Gradient delta = a.ldlt().solve(-jtr);
       std::array<double, N> next = x;
       for (int j = 0; j < N; ++j) next[j] += delta[j];
-      const double c = cost(next);
+      // The first try is usually taken: its normal equations come with its cost.
+      const bool with_normal = attempt == 0 && !last;
+      const double c = evaluate(next, with_normal ? &next_jtj : nullptr, &next_jtr);
       if (std::isfinite(c) && c < current) {
         x = next;
         current = c;
         lambda = std::max(lambda * 0.3, 1e-7);
         improved = true;
+        if (with_normal) {
+          jtj = next_jtj;
+          jtr = next_jtr;
+        } else if (!last) {
+          evaluate(x, &jtj, &jtr);
+        }
       } else {
         lambda *= 10;
       }
