@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "annex/formats/file_io.h"
 #include "annex/formats/png_io.h"
@@ -193,14 +194,23 @@ void draw_labels(std::uint8_t* pixels, int image_width, int image_height, int ch
                region_x0, region_width);
 }
 
-RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
-                           const CameraIntrinsics& intrinsics) {
-  RgbImage img;
-  const bool organized = frame.organized();
-  img.width = organized ? frame.width : 640;
-  img.height = organized ? frame.height : 480;
+namespace {
+
+bool has_colour(const Frame& frame) {
+  for (const PointXYZRGB& p : frame.points)
+    if (std::isfinite(p.z) && (p.r | p.g | p.b)) return true;
+  return false;
+}
+
+// The scene under the outlines: the sensor's colour dimmed, or, for a cloud without
+// colour (a depth-only sensor, a model such as milk.pcd), its depth in grey (near is
+// light), so the user still sees what was scanned. An unorganized cloud is drawn as the
+// scanner re-organizes it: projected with the Kinect's intrinsics, the nearest point
+// per pixel.
+void paint_background(const Frame& frame, RgbImage& img) {
   img.rgb.assign(static_cast<size_t>(img.width) * img.height * 3, 0);
-  if (organized) {
+  const bool organized = frame.organized();
+  if (organized && has_colour(frame)) {
     for (size_t i = 0; i < frame.points.size(); ++i) {
       const PointXYZRGB& p = frame.points[i];
       std::uint8_t* o = &img.rgb[i * 3];
@@ -208,7 +218,41 @@ RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
       o[1] = p.g * 2 / 5;
       o[2] = p.b * 2 / 5;
     }
+    return;
   }
+  const CameraIntrinsics k;
+  std::vector<float> depth(static_cast<size_t>(img.width) * img.height, 0.0f);
+  float near = std::numeric_limits<float>::max(), far = 0;
+  for (size_t i = 0; i < frame.points.size(); ++i) {
+    const PointXYZRGB& p = frame.points[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !(p.z > 0)) continue;
+    size_t at = i;
+    if (!organized) {
+      const long u = std::lround(k.fx * p.x / p.z + k.cx), v = std::lround(k.fy * p.y / p.z + k.cy);
+      if (u < 0 || v < 0 || u >= img.width || v >= img.height) continue;
+      at = static_cast<size_t>(v) * img.width + static_cast<size_t>(u);
+    }
+    if (depth[at] == 0 || p.z < depth[at]) depth[at] = p.z;
+    near = std::min(near, p.z);
+    far = std::max(far, p.z);
+  }
+  const float span = std::max(far - near, 1e-3f);
+  for (size_t i = 0; i < depth.size(); ++i) {
+    if (depth[i] == 0) continue;
+    const auto grey = static_cast<std::uint8_t>(140 - 100 * (depth[i] - near) / span);
+    img.rgb[i * 3] = img.rgb[i * 3 + 1] = img.rgb[i * 3 + 2] = grey;
+  }
+}
+
+}  // namespace
+
+RgbImage draw_scan_overlay(const Frame& frame, const ScanResult& scan,
+                           const CameraIntrinsics& intrinsics) {
+  RgbImage img;
+  const bool organized = frame.organized();
+  img.width = organized ? frame.width : 640;
+  img.height = organized ? frame.height : 480;
+  paint_background(frame, img);
   const double sx = static_cast<double>(img.width) / intrinsics.width;
   const double sy = static_cast<double>(img.height) / intrinsics.height;
   Projector proj{intrinsics.fx * sx, intrinsics.fy * sy, (intrinsics.cx + 0.5) * sx - 0.5,

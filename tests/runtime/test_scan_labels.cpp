@@ -1,10 +1,12 @@
-// The scan picture's labels (scan_overlay.h): none cut at the image's edges, none over
-// another while there is room.
+// The scan picture (scan_overlay.h): its labels, none cut at the image's edges, none over
+// another while there is room; its background, the scene even without colour.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "annex/runtime/scan_overlay.h"
+#include "annex/runtime/scanner.h"
 
 namespace annex {
 namespace {
@@ -43,6 +45,30 @@ TEST(ScanLabels, WithNoRoomLeftTheyStillStayInside) {
     EXPECT_GE(b.x0, 0);
     EXPECT_LE(b.y1, 240);
   }
+}
+
+// A cloud without colour (a model such as milk.pcd, 13,704 bare x y z points) is drawn by
+// depth where its points project, nearer lighter, and black where no point is.
+TEST(ScanOverlay, ColourlessCloudIsShadedByDepth) {
+  const CameraIntrinsics k;
+  Frame cloud;
+  for (int v = 200; v < 280; ++v)
+    for (int u = 280; u < 360; ++u) {
+      const float z = u < 320 ? 0.8f : 1.2f;  // a near patch left, a far one right
+      PointXYZRGB p;
+      p.z = z;
+      p.x = static_cast<float>((u - k.cx) * z / k.fx);
+      p.y = static_cast<float>((v - k.cy) * z / k.fy);
+      cloud.points.push_back(p);
+    }
+  cloud.width = static_cast<int>(cloud.points.size());
+  cloud.height = 1;
+  const RgbImage img = draw_scan_overlay(cloud, ScanResult{});
+  ASSERT_EQ(img.width, 640);
+  auto at = [&](int u, int v) { return img.rgb[(static_cast<size_t>(v) * img.width + u) * 3]; };
+  EXPECT_EQ(at(100, 100), 0);
+  EXPECT_GT(at(300, 240), at(340, 240));
+  EXPECT_GT(at(340, 240), 0);
 }
 
 }  // namespace
