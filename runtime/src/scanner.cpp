@@ -12,6 +12,7 @@
 
 #include "annex/runtime/object_segmenter.h"
 #include "occlusion_join.h"
+#include "scan_pool.h"
 #include "stacking.h"
 #include "smallest_eigenvector.h"
 
@@ -673,17 +674,37 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
   }
 }
 
-// Runs body(0..n-1) on up to `threads` threads, items handed out in order.
+// The scan's worker threads (scan_pool.h), set by scan_frame for as long as it runs:
+// the passes below reach them without a pool in every signature.
+thread_local ScanPool* scan_pool = nullptr;
+
+// Items in order of decreasing cost (ties in item order): handed out that way, a big
+// item is started first instead of last, where it would leave the other core idle.
+std::vector<size_t> largest_first(const std::vector<size_t>& cost) {
+  std::vector<size_t> order(cost.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return cost[a] > cost[b]; });
+  return order;
+}
+
+// Runs body(0..n-1) on up to `threads` threads: the scan's pool when there is one, else
+// threads started for this call. Items are handed out in `order` when given (see
+// largest_first), else in index order; the caller keeps results per item.
 template <typename F>
-void parallel_for(size_t n, int threads, F body) {
+void parallel_for(size_t n, int threads, F body, const std::vector<size_t>* order = nullptr) {
+  auto item = [&](size_t k) { return order ? (*order)[k] : k; };
   const size_t workers = std::min<size_t>(n, static_cast<size_t>(std::max(1, threads)));
   if (workers <= 1) {
     for (size_t i = 0; i < n; ++i) body(i);
     return;
   }
+  if (scan_pool && scan_pool->threads() >= static_cast<int>(workers)) {
+    scan_pool->run(n, body, order);
+    return;
+  }
   std::atomic<size_t> next{0};
   auto work = [&] {
-    for (size_t i = next++; i < n; i = next++) body(i);
+    for (size_t i = next++; i < n; i = next++) body(item(i));
   };
   std::vector<std::thread> pool;
   for (size_t w = 1; w < workers; ++w) pool.emplace_back(work);
@@ -728,12 +749,16 @@ void merge_parts(const Frame& f, const ScanParams& params, ScanResult& result,
     std::inplace_merge(big.pixels.begin(), middle, big.pixels.end());  // both sorted
     grown[owner[c]] = 1;
   }
+  std::vector<size_t> refit_sizes(n, 0);
+  for (size_t c = 0; c < n; ++c)
+    if (grown[c]) refit_sizes[c] = result.clusters[c].pixels.size();
+  const std::vector<size_t> refit_order = largest_first(refit_sizes);
   parallel_for(n, params.threads, [&](size_t c) {
     if (!grown[c]) return;
     ScanCluster& sc = result.clusters[c];
     smooth_cluster(f, sc.pixels, label, static_cast<int>(c), params, sc.points, normals[c]);
     sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
-  });
+  }, &refit_order);
   std::vector<ScanCluster> kept;
   for (size_t c = 0; c < n; ++c)
     if (owner[c] < 0) kept.push_back(std::move(result.clusters[c]));
@@ -957,6 +982,13 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   ScanResult result;
   std::mt19937_64 rng(params.shape.seed);
   const Vec3 up = effective_up(params);
+  // The worker threads, started once for the whole scan (scan_pool.h).
+  ScanPool pool(params.threads);
+  struct UsePool {
+    ScanPool* before;
+    explicit UsePool(ScanPool* p) : before(scan_pool) { scan_pool = p; }
+    ~UsePool() { scan_pool = before; }
+  } use_pool(&pool);
 
   auto t0 = Clock::now();
   const int stride = std::max(1, params.pixel_stride);
@@ -1108,29 +1140,40 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   const size_t ns = found.size();
   std::vector<char> mask(f.points.size(), 0);
   std::vector<int> seeds;
-  for (int i : strided) {
-    const Vec3 p = to_vec(f.points[i]);
-    int owner = -1;
-    double owner_h = 1e9;
-    bool surface = false;
-    for (size_t k = 0; k < ns; ++k) {
-      const Found& fd = found[k];
-      const double h = dot(fd.plane.n, p) + fd.plane.d;
-      const double band = plane_band(params, p.z);
-      if (h > params.max_height_m || h < -band) continue;
-      // On the surface itself only a furniture support's hull matters (most strided
-      // pixels lie there: the hull test is skipped for the others).
-      if (h < std::max(params.min_height_m, band)) {
-        surface = surface || (result.supports[k].furniture && fd.hull.contains(p));
-        continue;
+  // Pixels are independent: the pass runs in bands of the strided pixels, one per
+  // thread, each band's seeds kept apart and joined in band order (raster order, as
+  // one pass would give them). Below kMinPrismBand pixels a band is not worth a wake-up.
+  constexpr size_t kMinPrismBand = 8192;
+  std::vector<std::vector<int>> band_seeds(static_cast<size_t>(pool.threads()));
+  const size_t prism_bands =
+      pool.bands(strided.size(), kMinPrismBand, [&](size_t b, size_t lo, size_t hi) {
+    std::vector<int>& out = band_seeds[b];
+    for (size_t s = lo; s < hi; ++s) {
+      const int i = strided[s];
+      const Vec3 p = to_vec(f.points[i]);
+      int owner = -1;
+      double owner_h = 1e9;
+      bool surface = false;
+      for (size_t k = 0; k < ns; ++k) {
+        const Found& fd = found[k];
+        const double h = dot(fd.plane.n, p) + fd.plane.d;
+        const double band = plane_band(params, p.z);
+        if (h > params.max_height_m || h < -band) continue;
+        // On the surface itself only a furniture support's hull matters (most strided
+        // pixels lie there: the hull test is skipped for the others).
+        if (h < std::max(params.min_height_m, band)) {
+          surface = surface || (result.supports[k].furniture && fd.hull.contains(p));
+          continue;
+        }
+        if (!fd.hull.contains(p)) continue;
+        if (h < owner_h) owner_h = h, owner = static_cast<int>(k);
       }
-      if (!fd.hull.contains(p)) continue;
-      if (h < owner_h) owner_h = h, owner = static_cast<int>(k);
+      if (surface || owner < 0) continue;
+      mask[i] = static_cast<char>(owner + 1);
+      out.push_back(i);
     }
-    if (surface || owner < 0) continue;
-    mask[i] = static_cast<char>(owner + 1);
-    seeds.push_back(i);
-  }
+  });
+  for (size_t b = 0; b < prism_bands; ++b) seeds.insert(seeds.end(), band_seeds[b].begin(), band_seeds[b].end());
   result.stages.push_back({"prism", ms_since(t0)});
 
   t0 = Clock::now();
@@ -1279,6 +1322,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   // regions grow with the tolerance the clustering used at the cluster's farthest point
   // (it widens with depth noise), so a far cluster is not cut where it merely is noisy.
   std::vector<std::vector<std::vector<int>>> parts(accepted.size());
+  std::vector<size_t> grid_sizes(accepted.size());
+  for (size_t a = 0; a < accepted.size(); ++a) grid_sizes[a] = accepted[a].grid->size();
+  const std::vector<size_t> split_order = largest_first(grid_sizes);
   parallel_for(accepted.size(), params.threads, [&](size_t a) {
     const std::vector<int>& grid = *accepted[a].grid;
     double z_far = 0;
@@ -1287,7 +1333,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     for (const std::vector<int>& part :
          split_cluster(f, grid, stride, cluster_tolerance(params, z_far), params.segment))
       parts[a].push_back(expand_cluster(f, part, stride, plane, params));
-  });
+  }, &split_order);
   for (size_t a = 0; a < accepted.size(); ++a)
     for (std::vector<int>& full : parts[a]) {
       if (static_cast<int>(full.size()) < accepted[a].min_points ||
@@ -1307,19 +1353,26 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   // (each fit seeds its own generator, so the result does not depend on the split).
   std::vector<std::vector<Vec3>> normals(clusters.size());
   result.clusters.resize(clusters.size());
+  std::vector<size_t> cluster_sizes(clusters.size());
+  for (size_t c = 0; c < clusters.size(); ++c) cluster_sizes[c] = clusters[c].pixels.size();
+  const std::vector<size_t> mls_order = largest_first(cluster_sizes);
   parallel_for(clusters.size(), params.threads, [&](size_t c) {
     ScanCluster& sc = result.clusters[c];
     sc.pixels = clusters[c].pixels;
     sc.support = result.supports[static_cast<size_t>(clusters[c].support)].surface.plane;
     smooth_cluster(f, sc.pixels, label, static_cast<int>(c), params, sc.points, normals[c]);
-  });
+  }, &mls_order);
   result.stages.push_back({"mls", ms_since(t0)});
 
   t0 = Clock::now();
+  // The fits' cost grows with the smoothed points (at most the fit budget each).
+  std::vector<size_t> fit_sizes(clusters.size());
+  for (size_t c = 0; c < clusters.size(); ++c) fit_sizes[c] = result.clusters[c].points.size();
+  const std::vector<size_t> fit_order = largest_first(fit_sizes);
   parallel_for(clusters.size(), params.threads, [&](size_t c) {
     ScanCluster& sc = result.clusters[c];
     sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
-  });
+  }, &fit_order);
   restack(result, normals, params);
   if (params.stack_on_objects) {
     // On a support that is another object's top (stacking.h): that object, by the id.
