@@ -454,11 +454,14 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
   // `split`: one support per kept region, else one for all of them.
   std::vector<int> slot(sizes.size(), -1);
   std::vector<PlaneRegions> out;
+  std::vector<size_t> slot_size;
   for (size_t k = 0; k < sizes.size(); ++k)
     if (keep[k]) {
-      if (split || out.empty()) out.emplace_back();
+      if (split || out.empty()) out.emplace_back(), slot_size.push_back(0);
       slot[k] = static_cast<int>(out.size()) - 1;
+      slot_size.back() += static_cast<size_t>(sizes[k]);
     }
+  for (size_t o = 0; o < out.size(); ++o) out[o].members.reserve(slot_size[o]);
   // Only inlier cells carry a label: the grid rows are walked through the raster-ordered
   // inliers, each row closed when the next inlier lies on a later one.
   std::vector<int> first(out.size(), -1), last(out.size());
