@@ -2,6 +2,7 @@
 #include "annex/runtime/object_segmenter.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -16,10 +17,16 @@ bool valid(const PointXYZRGB& p) { return std::isfinite(p.z) && p.z > 0; }
 // The cluster's grid pixels inside their bounding box, for O(1) membership.
 struct LocalGrid {
   int step = 1, gx0 = 0, gy0 = 0, gw = 0, gh = 0, width = 0;
+  int shift = -1;         // log2(step) when step is a power of two: a shift, not a division
   std::vector<int> slot;  // index into grid_pixels, -1 outside the cluster
   int at(int x, int y) const {  // full-resolution pixel -> its grid pixel's slot
-    const int gx = x / step - gx0, gy = y / step - gy0;
-    if (x < 0 || y < 0 || gx < 0 || gy < 0 || gx >= gw || gy >= gh) return -1;
+    if (x < 0 || y < 0) return -1;
+    const int gx = (shift >= 0 ? x >> shift : x / step) - gx0;
+    const int gy = (shift >= 0 ? y >> shift : y / step) - gy0;
+    return local(gx, gy);
+  }
+  int local(int gx, int gy) const {  // cell of the cluster's box -> slot
+    if (gx < 0 || gy < 0 || gx >= gw || gy >= gh) return -1;
     return slot[static_cast<size_t>(gy) * gw + gx];
   }
 };
@@ -39,6 +46,7 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
   LocalGrid g;
   g.step = step;
   g.width = f.width;
+  if ((step & (step - 1)) == 0) g.shift = std::countr_zero(static_cast<unsigned>(step));
   int gx1 = 0, gy1 = 0;
   g.gx0 = g.gy0 = 1 << 30;
   for (int i : grid_pixels) {
@@ -132,14 +140,17 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
   const double tol2 = tolerance_m * tolerance_m;
   std::vector<int> adjacent_start(static_cast<size_t>(n) + 1, 0), adjacent;
   adjacent.reserve(static_cast<size_t>(n) * 8);
+  // Grid pixels lie on multiples of step, so a neighbour one step away is the next cell
+  // of the box (outside it, or off the image, no cell of the cluster).
   for (int k = 0; k < n; ++k) {
-    const int i = grid_pixels[k], x = i % f.width, y = i / f.width;
+    const int i = grid_pixels[k];
+    const int gx = (i % f.width) / step - g.gx0, gy = (i / f.width) / step - g.gy0;
     const PointXYZRGB& p = f.points[i];
-    const int nb[8][2] = {{x - step, y}, {x + step, y}, {x, y - step}, {x, y + step},
-                          {x - step, y - step}, {x + step, y - step}, {x - step, y + step},
-                          {x + step, y + step}};
+    const int nb[8][2] = {{gx - 1, gy}, {gx + 1, gy}, {gx, gy - 1}, {gx, gy + 1},
+                          {gx - 1, gy - 1}, {gx + 1, gy - 1}, {gx - 1, gy + 1},
+                          {gx + 1, gy + 1}};
     for (const auto& q : nb) {
-      const int m = g.at(q[0], q[1]);
+      const int m = g.local(q[0], q[1]);
       if (m < 0) continue;
       const PointXYZRGB& o = f.points[grid_pixels[m]];
       const double dx = p.x - o.x, dy = p.y - o.y, dz = p.z - o.z;

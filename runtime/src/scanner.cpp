@@ -12,6 +12,7 @@
 
 #include "annex/runtime/object_segmenter.h"
 #include "occlusion_join.h"
+#include "scan_pool.h"
 #include "stacking.h"
 #include "smallest_eigenvector.h"
 
@@ -81,6 +82,18 @@ double cluster_tolerance(const ScanParams& params, double z) {
   return std::max(params.cluster_tolerance_m, params.cluster_noise_factor * kinect_sigma_z(z));
 }
 
+// The scan's worker threads (scan_pool.h), set by scan_frame for as long as it runs:
+// the passes below reach them without a pool in every signature.
+thread_local ScanPool* scan_pool = nullptr;
+
+// ScanPool::bands on the scan's pool, or one band on the calling thread without one.
+template <typename F>
+size_t in_bands(size_t n, size_t min_band, F&& body) {
+  if (scan_pool) return scan_pool->bands(n, min_band, body);
+  body(size_t{0}, size_t{0}, n);
+  return 1;
+}
+
 struct PlaneFit {
   Vec3 n;
   double d = 0;
@@ -136,8 +149,11 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
   const double* py = probe[1].data();
   const double* pz = probe[2].data();
   const double cos_max = std::cos(max_angle_deg * 3.14159265358979 / 180.0);
-  PlaneFit hyp_best;
-  int hyp_count = -1;
+  // The hypotheses are drawn first (the generator's draws do not depend on the counts),
+  // then counted in bands of hypotheses on the scan's threads, then the first with the
+  // most inliers wins, as when each was counted as it was drawn.
+  std::vector<PlaneFit> hyps;
+  hyps.reserve(static_cast<size_t>(std::max(0, params.plane_iterations)));
   // The second and third points come from the first one's image neighbourhood: a
   // local triple lies on one surface far more often than three random pixels, so
   // small supports (a floor behind furniture) are still found.
@@ -170,14 +186,24 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
     if (dot(n, up) < cos_max) continue;
     const double d = -dot(n, a);
     if (d <= 0) continue;  // the camera must be above the support
-    int count = 0;
-    for (int k = 0; k < probe_size; ++k)
-      count += std::abs(n.x * px[k] + n.y * py[k] + n.z * pz[k] + d) < band;
-    if (count > hyp_count) {
-      hyp_count = count;
-      hyp_best = {n, d, true};
-    }
+    hyps.push_back({n, d, true});
   }
+  std::vector<int> counts(hyps.size(), 0);
+  // A band of 32 hypotheses is some 200k multiply-adds: well worth a spinning helper.
+  in_bands(hyps.size(), 32, [&](size_t, size_t lo, size_t hi) {
+    for (size_t h = lo; h < hi; ++h) {
+      const Vec3 n = hyps[h].n;
+      const double d = hyps[h].d;
+      int count = 0;
+      for (int k = 0; k < probe_size; ++k)
+        count += std::abs(n.x * px[k] + n.y * py[k] + n.z * pz[k] + d) < band;
+      counts[h] = count;
+    }
+  });
+  PlaneFit hyp_best;
+  int hyp_count = -1;
+  for (size_t h = 0; h < hyps.size(); ++h)
+    if (counts[h] > hyp_count) hyp_count = counts[h], hyp_best = hyps[h];
   if (!hyp_best.ok) return best;
   PlaneFit plane = hyp_best;
   for (int round = 0; round < 2; ++round) {
@@ -360,34 +386,64 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
                                         const std::vector<GridCell>& cells, int stride,
                                         int min_region, bool split) {
   const int gw = (f.width + stride - 1) / stride, gh = (f.height + stride - 1) / stride;
-  // The labels live on the grid padded by two cells on every side, which are never
-  // inliers: the neighbour steps below need no bounds test.
+  // Each inlier cell holds its index in `cells` on the grid padded by two cells on every
+  // side, which are never inliers: the neighbour steps below need no bounds test.
   const int pw = gw + 4;
   auto cell = [pw](int x, int y) { return static_cast<size_t>(y + 2) * pw + (x + 2); };
-  std::vector<int> label(static_cast<size_t>(pw) * (gh + 4), -2);  // -2 not inlier, -1 unvisited
-  for (const GridCell& c : cells) label[cell(c.x, c.y)] = -1;
-  std::vector<int> sizes;
-  std::vector<size_t> queue;
-  // Inliers come in raster order, so regions are numbered as a scan of the grid would.
+  // The grid is scratch kept per thread between calls and scans (-1 everywhere between
+  // calls: only the inlier cells are set, and they are reset on the way out), so a call
+  // costs its inliers, not a clear of the whole grid.
+  thread_local std::vector<int> at;
+  if (at.size() != static_cast<size_t>(pw) * (gh + 4)) at.assign(static_cast<size_t>(pw) * (gh + 4), -1);
   // Neighbours one or two grid steps away along the rows and columns: a surface seen at
   // a grazing angle loses pixels to dropout (a far table seen from just above its
-  // height), and a single missing cell must not cut it apart.
-  const std::ptrdiff_t steps[8] = {-1, 1, -pw, pw, -2, 2, -2 * pw, 2 * pw};
-  for (const GridCell& c : cells) {
-    const size_t start = cell(c.x, c.y);
-    if (label[start] != -1) continue;
-    const int next = static_cast<int>(sizes.size());
-    queue.assign(1, start);
-    label[start] = next;
-    for (size_t q = 0; q < queue.size(); ++q)
-      for (const std::ptrdiff_t d : steps) {
-        const size_t m = static_cast<size_t>(static_cast<std::ptrdiff_t>(queue[q]) + d);
-        if (label[m] == -1) {
-          label[m] = next;
-          queue.push_back(m);
-        }
-      }
-    sizes.push_back(static_cast<int>(queue.size()));
+  // height), and a single missing cell must not cut it apart. The relation is
+  // symmetric, so joining each cell to its earlier neighbours (raster order) joins
+  // every pair: one pass of union-find, each set's root its first cell.
+  std::vector<int> parent(cells.size());
+  auto root = [&](int k) {
+    while (parent[k] != k) k = parent[k] = parent[parent[k]];
+    return k;
+  };
+  for (size_t k = 0; k < cells.size(); ++k) {
+    const size_t c = cell(cells[k].x, cells[k].y);
+    at[c] = static_cast<int>(k);
+    int r = static_cast<int>(k);
+    parent[k] = r;
+    auto join = [&](int m) {
+      const int rm = root(m);
+      if (rm == r) return;
+      // The earlier root stays: a set's root is its first cell in raster order.
+      if (rm < r)
+        parent[r] = rm, r = rm;
+      else
+        parent[rm] = r;
+    };
+    // Two cells back along the row or column is already joined to one cell back when
+    // that is an inlier (they are each other's neighbours).
+    if (const int m = at[c - 1]; m >= 0)
+      join(m);
+    else if (const int m2 = at[c - 2]; m2 >= 0)
+      join(m2);
+    if (const int m = at[c - pw]; m >= 0)
+      join(m);
+    else if (const int m2 = at[c - 2 * pw]; m2 >= 0)
+      join(m2);
+  }
+  for (const GridCell& g : cells) at[cell(g.x, g.y)] = -1;
+  // Regions are numbered in the order of their first cells, as a scan of the grid that
+  // floods each region from its first cell would number them.
+  std::vector<int> region(cells.size());
+  std::vector<int> sizes;
+  for (size_t k = 0; k < cells.size(); ++k) {
+    const int r = root(static_cast<int>(k));
+    if (r == static_cast<int>(k)) {
+      region[k] = static_cast<int>(sizes.size());
+      sizes.push_back(0);
+    } else {
+      region[k] = region[static_cast<size_t>(r)];
+    }
+    ++sizes[static_cast<size_t>(region[k])];
   }
   const int largest = sizes.empty() ? 0 : *std::max_element(sizes.begin(), sizes.end());
   std::vector<char> keep(sizes.size(), 0);
@@ -398,11 +454,14 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
   // `split`: one support per kept region, else one for all of them.
   std::vector<int> slot(sizes.size(), -1);
   std::vector<PlaneRegions> out;
+  std::vector<size_t> slot_size;
   for (size_t k = 0; k < sizes.size(); ++k)
     if (keep[k]) {
-      if (split || out.empty()) out.emplace_back();
+      if (split || out.empty()) out.emplace_back(), slot_size.push_back(0);
       slot[k] = static_cast<int>(out.size()) - 1;
+      slot_size.back() += static_cast<size_t>(sizes[k]);
     }
+  for (size_t o = 0; o < out.size(); ++o) out[o].members.reserve(slot_size[o]);
   // Only inlier cells carry a label: the grid rows are walked through the raster-ordered
   // inliers, each row closed when the next inlier lies on a later one.
   std::vector<int> first(out.size(), -1), last(out.size());
@@ -422,7 +481,7 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
       if (row >= 0) close_row(row);
       row = y;
     }
-    const int l = label[cell(x, y)];
+    const int l = region[k];
     if (slot[l] < 0) continue;
     const int o = slot[l];
     out[o].members.push_back(i);  // a strided pixel: y * stride * width + x * stride
@@ -529,14 +588,15 @@ std::vector<std::vector<int>> grow_clusters(const Frame& f, const std::vector<ch
       const int i = queue[q], x = i % f.width, y = i / f.width;
       const PointXYZRGB& p = f.points[i];
       const double tol = cluster_tolerance(params, p.z), tol2 = tol * tol;
-      for (int dy = -w; dy <= w; ++dy) {
-        const int yy = y + dy * step;
-        if (yy < 0 || yy >= f.height) continue;
-        for (int dx = -w; dx <= w; ++dx) {
-          const int xx = x + dx * step;
-          if (xx < 0 || xx >= f.width) continue;
-          const int j = yy * f.width + xx;
-          if (mask[j] != mask[i] || label[j] >= 0) continue;
+      // The window clipped to the image once per pixel, not tested per neighbour.
+      const int dy0 = -std::min(w, y / step), dy1 = std::min(w, (f.height - 1 - y) / step);
+      const int dx0 = -std::min(w, x / step), dx1 = std::min(w, (f.width - 1 - x) / step);
+      const char own = mask[i];
+      for (int dy = dy0; dy <= dy1; ++dy) {
+        const int row = (y + dy * step) * f.width;
+        for (int dx = dx0; dx <= dx1; ++dx) {
+          const int j = row + x + dx * step;
+          if (mask[j] != own || label[j] >= 0) continue;
           const PointXYZRGB& o = f.points[j];
           const double ddx = p.x - o.x, ddy = p.y - o.y, ddz = p.z - o.z;
           if (ddx * ddx + ddy * ddy + ddz * ddz > tol2) continue;
@@ -634,14 +694,14 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
     double sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
     int n = 0;
     const int hop = w > 3 ? 2 : 1;  // a sparser window keeps the cost flat
-    for (int dy = -w; dy <= w; dy += hop) {
-      const int yy = y + dy;
-      if (yy < 0 || yy >= f.height) continue;
-      const int row = yy * f.width;
-      for (int dx = -w; dx <= w; dx += hop) {
-        const int xx = x + dx;
-        if (xx < 0 || xx >= f.width) continue;
-        const int j = row + xx;
+    // The window's first offsets inside the image (the same offsets as testing each).
+    int dy0 = -w, dx0 = -w;
+    while (y + dy0 < 0) dy0 += hop;
+    while (x + dx0 < 0) dx0 += hop;
+    for (int dy = dy0; dy <= w && y + dy < f.height; dy += hop) {
+      const int row = (y + dy) * f.width;
+      for (int dx = dx0; dx <= w && x + dx < f.width; dx += hop) {
+        const int j = row + x + dx;
         if (label[j] != id) continue;
         const PointXYZRGB& pj = f.points[j];
         const double qx = pj.x, qy = pj.y, qz = pj.z;
@@ -673,17 +733,33 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
   }
 }
 
-// Runs body(0..n-1) on up to `threads` threads, items handed out in order.
+// Items in order of decreasing cost (ties in item order): handed out that way, a big
+// item is started first instead of last, where it would leave the other core idle.
+std::vector<size_t> largest_first(const std::vector<size_t>& cost) {
+  std::vector<size_t> order(cost.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return cost[a] > cost[b]; });
+  return order;
+}
+
+// Runs body(0..n-1) on up to `threads` threads: the scan's pool when there is one, else
+// threads started for this call. Items are handed out in `order` when given (see
+// largest_first), else in index order; the caller keeps results per item.
 template <typename F>
-void parallel_for(size_t n, int threads, F body) {
+void parallel_for(size_t n, int threads, F body, const std::vector<size_t>* order = nullptr) {
+  auto item = [&](size_t k) { return order ? (*order)[k] : k; };
   const size_t workers = std::min<size_t>(n, static_cast<size_t>(std::max(1, threads)));
   if (workers <= 1) {
     for (size_t i = 0; i < n; ++i) body(i);
     return;
   }
+  if (scan_pool && scan_pool->threads() >= static_cast<int>(workers)) {
+    scan_pool->run(n, body, order);
+    return;
+  }
   std::atomic<size_t> next{0};
   auto work = [&] {
-    for (size_t i = next++; i < n; i = next++) body(i);
+    for (size_t i = next++; i < n; i = next++) body(item(i));
   };
   std::vector<std::thread> pool;
   for (size_t w = 1; w < workers; ++w) pool.emplace_back(work);
@@ -728,12 +804,16 @@ void merge_parts(const Frame& f, const ScanParams& params, ScanResult& result,
     std::inplace_merge(big.pixels.begin(), middle, big.pixels.end());  // both sorted
     grown[owner[c]] = 1;
   }
+  std::vector<size_t> refit_sizes(n, 0);
+  for (size_t c = 0; c < n; ++c)
+    if (grown[c]) refit_sizes[c] = result.clusters[c].pixels.size();
+  const std::vector<size_t> refit_order = largest_first(refit_sizes);
   parallel_for(n, params.threads, [&](size_t c) {
     if (!grown[c]) return;
     ScanCluster& sc = result.clusters[c];
     smooth_cluster(f, sc.pixels, label, static_cast<int>(c), params, sc.points, normals[c]);
     sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
-  });
+  }, &refit_order);
   std::vector<ScanCluster> kept;
   for (size_t c = 0; c < n; ++c)
     if (owner[c] < 0) kept.push_back(std::move(result.clusters[c]));
@@ -957,6 +1037,13 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   ScanResult result;
   std::mt19937_64 rng(params.shape.seed);
   const Vec3 up = effective_up(params);
+  // The worker threads, started once for the whole scan (scan_pool.h).
+  ScanPool pool(params.threads);
+  struct UsePool {
+    ScanPool* before;
+    explicit UsePool(ScanPool* p) : before(scan_pool) { scan_pool = p; }
+    ~UsePool() { scan_pool = before; }
+  } use_pool(&pool);
 
   auto t0 = Clock::now();
   const int stride = std::max(1, params.pixel_stride);
@@ -1108,29 +1195,40 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   const size_t ns = found.size();
   std::vector<char> mask(f.points.size(), 0);
   std::vector<int> seeds;
-  for (int i : strided) {
-    const Vec3 p = to_vec(f.points[i]);
-    int owner = -1;
-    double owner_h = 1e9;
-    bool surface = false;
-    for (size_t k = 0; k < ns; ++k) {
-      const Found& fd = found[k];
-      const double h = dot(fd.plane.n, p) + fd.plane.d;
-      const double band = plane_band(params, p.z);
-      if (h > params.max_height_m || h < -band) continue;
-      // On the surface itself only a furniture support's hull matters (most strided
-      // pixels lie there: the hull test is skipped for the others).
-      if (h < std::max(params.min_height_m, band)) {
-        surface = surface || (result.supports[k].furniture && fd.hull.contains(p));
-        continue;
+  // Pixels are independent: the pass runs in bands of the strided pixels, one per
+  // thread, each band's seeds kept apart and joined in band order (raster order, as
+  // one pass would give them). Below kMinPrismBand pixels a band is not worth a wake-up.
+  constexpr size_t kMinPrismBand = 8192;
+  std::vector<std::vector<int>> band_seeds(static_cast<size_t>(pool.threads()));
+  const size_t prism_bands =
+      pool.bands(strided.size(), kMinPrismBand, [&](size_t b, size_t lo, size_t hi) {
+    std::vector<int>& out = band_seeds[b];
+    for (size_t s = lo; s < hi; ++s) {
+      const int i = strided[s];
+      const Vec3 p = to_vec(f.points[i]);
+      int owner = -1;
+      double owner_h = 1e9;
+      bool surface = false;
+      for (size_t k = 0; k < ns; ++k) {
+        const Found& fd = found[k];
+        const double h = dot(fd.plane.n, p) + fd.plane.d;
+        const double band = plane_band(params, p.z);
+        if (h > params.max_height_m || h < -band) continue;
+        // On the surface itself only a furniture support's hull matters (most strided
+        // pixels lie there: the hull test is skipped for the others).
+        if (h < std::max(params.min_height_m, band)) {
+          surface = surface || (result.supports[k].furniture && fd.hull.contains(p));
+          continue;
+        }
+        if (!fd.hull.contains(p)) continue;
+        if (h < owner_h) owner_h = h, owner = static_cast<int>(k);
       }
-      if (!fd.hull.contains(p)) continue;
-      if (h < owner_h) owner_h = h, owner = static_cast<int>(k);
+      if (surface || owner < 0) continue;
+      mask[i] = static_cast<char>(owner + 1);
+      out.push_back(i);
     }
-    if (surface || owner < 0) continue;
-    mask[i] = static_cast<char>(owner + 1);
-    seeds.push_back(i);
-  }
+  });
+  for (size_t b = 0; b < prism_bands; ++b) seeds.insert(seeds.end(), band_seeds[b].begin(), band_seeds[b].end());
   result.stages.push_back({"prism", ms_since(t0)});
 
   t0 = Clock::now();
@@ -1279,6 +1377,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   // regions grow with the tolerance the clustering used at the cluster's farthest point
   // (it widens with depth noise), so a far cluster is not cut where it merely is noisy.
   std::vector<std::vector<std::vector<int>>> parts(accepted.size());
+  std::vector<size_t> grid_sizes(accepted.size());
+  for (size_t a = 0; a < accepted.size(); ++a) grid_sizes[a] = accepted[a].grid->size();
+  const std::vector<size_t> split_order = largest_first(grid_sizes);
   parallel_for(accepted.size(), params.threads, [&](size_t a) {
     const std::vector<int>& grid = *accepted[a].grid;
     double z_far = 0;
@@ -1287,7 +1388,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     for (const std::vector<int>& part :
          split_cluster(f, grid, stride, cluster_tolerance(params, z_far), params.segment))
       parts[a].push_back(expand_cluster(f, part, stride, plane, params));
-  });
+  }, &split_order);
   for (size_t a = 0; a < accepted.size(); ++a)
     for (std::vector<int>& full : parts[a]) {
       if (static_cast<int>(full.size()) < accepted[a].min_points ||
@@ -1307,19 +1408,26 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   // (each fit seeds its own generator, so the result does not depend on the split).
   std::vector<std::vector<Vec3>> normals(clusters.size());
   result.clusters.resize(clusters.size());
+  std::vector<size_t> cluster_sizes(clusters.size());
+  for (size_t c = 0; c < clusters.size(); ++c) cluster_sizes[c] = clusters[c].pixels.size();
+  const std::vector<size_t> mls_order = largest_first(cluster_sizes);
   parallel_for(clusters.size(), params.threads, [&](size_t c) {
     ScanCluster& sc = result.clusters[c];
     sc.pixels = clusters[c].pixels;
     sc.support = result.supports[static_cast<size_t>(clusters[c].support)].surface.plane;
     smooth_cluster(f, sc.pixels, label, static_cast<int>(c), params, sc.points, normals[c]);
-  });
+  }, &mls_order);
   result.stages.push_back({"mls", ms_since(t0)});
 
   t0 = Clock::now();
+  // The fits' cost grows with the smoothed points (at most the fit budget each).
+  std::vector<size_t> fit_sizes(clusters.size());
+  for (size_t c = 0; c < clusters.size(); ++c) fit_sizes[c] = result.clusters[c].points.size();
+  const std::vector<size_t> fit_order = largest_first(fit_sizes);
   parallel_for(clusters.size(), params.threads, [&](size_t c) {
     ScanCluster& sc = result.clusters[c];
     sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
-  });
+  }, &fit_order);
   restack(result, normals, params);
   if (params.stack_on_objects) {
     // On a support that is another object's top (stacking.h): that object, by the id.
