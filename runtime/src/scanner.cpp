@@ -316,23 +316,32 @@ Hull2 convex_hull(const std::vector<Vec3>& in, Vec3 n) {
 }
 
 // A later support is parallel to the first one (a room's supports share one up), so it
-// is one number: its height along that normal. The pool's heights are binned by the
-// plane band and the densest band wins: walls, legs and objects spread over every
-// height, a support concentrates at one. Unlike a RANSAC triple, this finds a table
-// seen at a grazing angle from just above its height, where dropout leaves a thin,
-// holed strip and three-point normals scatter. Least squares then refines the winner
-// when the refit stays parallel to the first support.
+// is one number: its height along that normal. The heights of the pool's points that
+// face up (`use`, facing_up below) are binned by the plane band and the densest band
+// wins: a support concentrates at one height, and walls, legs and objects' sides, which
+// spread over every height, face sideways and take no part. Unlike a RANSAC triple, this
+// finds a table seen at a grazing angle from just above its height, where dropout leaves
+// a thin, holed strip and three-point normals scatter. Least squares on the band's
+// points then refines the winner when the refit stays parallel to the first support
+// (on the up-facing points alone, a table 2 m away finds its plane 0.1 to 0.3 degrees
+// off: the tuned set's objects 2.5 m away sat on a support 3 cm off more often). `heights`: each point's height above the first support; `peak_points` (and
+// `inliers`): the up-facing points in the winning band, `peak_height` its height.
 PlaneSearch find_parallel_plane(const ScanParams& params, const PlaneFit& first,
-                                const std::vector<Vec3>& pts, double max_tilt_deg) {
+                                const std::vector<Vec3>& pts, const std::vector<double>& heights,
+                                const std::vector<char>& use, double max_tilt_deg,
+                                int& peak_points, double& peak_height) {
   PlaneSearch best;
+  peak_points = 0;
+  peak_height = 0;
   if (pts.size() < 50) return best;
   const double band = params.plane_distance_m;
   // Heights above the first plane; the camera (height first.d) must be above the support.
   const double lo = -params.max_depth_m, hi = first.d;
   const int bins = static_cast<int>((hi - lo) / band) + 2;
   std::vector<int> count(static_cast<size_t>(bins), 0);
-  for (const Vec3& p : pts) {
-    const double h = dot(first.n, p) + first.d;
+  for (size_t k = 0; k < pts.size(); ++k) {
+    if (!use[k]) continue;
+    const double h = heights[k];
     if (h <= lo || h >= hi) continue;
     ++count[static_cast<size_t>((h - lo) / band)];
   }
@@ -343,6 +352,8 @@ PlaneSearch find_parallel_plane(const ScanParams& params, const PlaneFit& first,
     if (c > peak_count) peak_count = c, peak = k;
   }
   if (peak < 0) return best;
+  peak_points = peak_count;
+  peak_height = lo + peak * band;
   PlaneFit plane{first.n, first.d - (lo + peak * band), true};
   if (plane.d <= 0) return best;
   const double cos_max = std::cos(max_tilt_deg * 3.14159265358979 / 180.0);
@@ -360,7 +371,8 @@ PlaneSearch find_parallel_plane(const ScanParams& params, const PlaneFit& first,
     if (dot(refit.n, first.n) < cos_max || refit.d <= 0) break;
     plane = refit;
   }
-  for (const Vec3& p : pts) best.inliers += std::abs(dot(plane.n, p) + plane.d) < band;
+  // The caller counts the inliers (its one pass over the pool finds them).
+  best.inliers = peak_count;
   best.plane = plane;
   return best;
 }
@@ -379,6 +391,40 @@ struct PlaneRegions {
 struct GridCell {
   int x = 0, y = 0;
 };
+
+// Which of `pixels` lie on a surface facing up rather than sideways: the normal through
+// their grid neighbours four grid steps on along the row and the column within 45
+// degrees of `up`, nearer to horizontal than to vertical. Depth noise tilts a far
+// floor's normals by some 30 degrees at 3.5 m (four grid steps span 5 cm there), not a
+// wall's by 45.
+std::vector<char> facing_up(const Frame& f, const std::vector<int>& pixels,
+                            const std::vector<GridCell>& cells, int stride, Vec3 up) {
+  const int reach = 4 * stride, w = f.width, h = f.height;
+  const float ux = static_cast<float>(up.x), uy = static_cast<float>(up.y), uz = static_cast<float>(up.z);
+  std::vector<char> out(pixels.size(), 0);
+  const PointXYZRGB* pts = f.points.data();
+  // A NaN depth fails `z > 0`; a pixel with depth has finite coordinates here (the
+  // pool holds valid pixels, and a NaN neighbour coordinate only makes the test fail).
+  for (size_t k = 0; k < pixels.size(); ++k) {
+    const int i = pixels[k], x = cells[k].x * stride, y = cells[k].y * stride;
+    const PointXYZRGB& c = pts[i];
+    // Along the row and along the column: from the pixel to its neighbour four grid
+    // steps on, or from the one as far back where that one has no depth.
+    const int right = x + reach < w && pts[i + reach].z > 0 ? i + reach
+                      : x >= reach && pts[i - reach].z > 0  ? i - reach
+                                                            : -1;
+    const int down = y + reach < h && pts[i + reach * w].z > 0 ? i + reach * w
+                     : y >= reach && pts[i - reach * w].z > 0  ? i - reach * w
+                                                               : -1;
+    if (right < 0 || down < 0) continue;
+    const float ax = pts[right].x - c.x, ay = pts[right].y - c.y, az = pts[right].z - c.z;
+    const float bx = pts[down].x - c.x, by = pts[down].y - c.y, bz = pts[down].z - c.z;
+    const float nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+    const float along = nx * ux + ny * uy + nz * uz, len2 = nx * nx + ny * ny + nz * nz;
+    out[k] = len2 > 0 && 2 * along * along >= len2;  // cos^2 >= cos^2(45 degrees)
+  }
+  return out;
+}
 
 // `inliers`: the strided pixels still free within the plane's depth-scaled band, and
 // `cells` their grid cells.
@@ -611,22 +657,39 @@ std::vector<std::vector<int>> grow_clusters(const Frame& f, const std::vector<ch
 }
 
 // Whether a cluster's surface runs on above the height band: grid neighbours of its
-// pixels that are above max_height_m yet within the cluster tolerance in 3D. Walls,
-// cupboards and people do; an object on the support ends below the band's top.
+// pixels that are above max_height_m yet on the cluster's surface. Walls, cupboards and
+// people do; an object on the support ends below the band's top. A neighbour is on the
+// surface when it is within the cluster tolerance in 3D, or when it continues the line
+// through the pixel and its opposite neighbour within that tolerance (and within three
+// tolerances of it): a cupboard's front seen at a grazing angle from above spaces its
+// rows wider than the depth noise, but evenly, while an object's top edge against the
+// wall behind it is a step the line misses by far.
 bool continues_above(const Frame& f, const std::vector<int>& grid_pixels, int step,
                      const PlaneFit& plane, const ScanParams& params) {
   size_t joins = 0;
+  auto point = [&](int x, int y) -> const PointXYZRGB* {
+    if (x < 0 || y < 0 || x >= f.width || y >= f.height) return nullptr;
+    const PointXYZRGB& q = f.points[static_cast<size_t>(y) * f.width + x];
+    return valid(q) ? &q : nullptr;
+  };
   for (int i : grid_pixels) {
     const int x = i % f.width, y = i / f.width;
     const PointXYZRGB& p = f.points[i];
     const double tol = cluster_tolerance(params, p.z), tol2 = tol * tol;
-    const int nb[4][2] = {{x - step, y}, {x + step, y}, {x, y - step}, {x, y + step}};
-    for (const auto& xy : nb) {
-      if (xy[0] < 0 || xy[1] < 0 || xy[0] >= f.width || xy[1] >= f.height) continue;
-      const PointXYZRGB& q = f.points[static_cast<size_t>(xy[1]) * f.width + xy[0]];
-      if (!valid(q) || dot(plane.n, to_vec(q)) + plane.d <= params.max_height_m) continue;
-      const double dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
-      joins += dx * dx + dy * dy + dz * dz <= tol2;
+    const int nb[4][2] = {{-step, 0}, {step, 0}, {0, -step}, {0, step}};
+    for (const auto& d : nb) {
+      const PointXYZRGB* q = point(x + d[0], y + d[1]);
+      if (!q || dot(plane.n, to_vec(*q)) + plane.d <= params.max_height_m) continue;
+      const double dx = q->x - p.x, dy = q->y - p.y, dz = q->z - p.z;
+      const double gap2 = dx * dx + dy * dy + dz * dz;
+      if (gap2 <= tol2) {
+        ++joins;
+        continue;
+      }
+      const PointXYZRGB* r = point(x - d[0], y - d[1]);
+      if (!r || gap2 > 9 * tol2) continue;
+      const double ex = dx - (p.x - r->x), ey = dy - (p.y - r->y), ez = dz - (p.z - r->z);
+      joins += ex * ex + ey * ey + ez * ez <= tol2;
     }
   }
   // A few joins suffice for a thin leg seen from afar (a handful of grid pixels wide).
@@ -887,31 +950,95 @@ struct Found {
   std::vector<int> pool = strided;
   std::vector<GridCell> pool_cells = strided_cells;
   std::vector<Vec3> pool_pts;
+  std::vector<double> pool_band;  // each pool point's plane band (plane_band at its depth)
   pool_pts.reserve(pool.size());
-  for (int i : pool) pool_pts.push_back(to_vec(f.points[i]));
+  pool_band.reserve(pool.size());
+  for (int i : pool) {
+    pool_pts.push_back(to_vec(f.points[i]));
+    pool_band.push_back(plane_band(params, pool_pts.back().z));
+  }
   const int min_region = std::max(1, params.min_plane_points / (4 * stride * stride));
   std::vector<std::pair<PlaneFit, std::vector<PlaneRegions>>> planes;
   std::vector<int> inliers;
   std::vector<GridCell> inlier_cells;
-  for (int attempt = 0; attempt < params.max_planes && pool.size() >= 50; ++attempt) {
+  // After the first plane: which pool points face up (facing_up), the later searches'
+  // candidates. The loop ends when no band of them is as large as a support's smallest
+  // region, so every horizontal surface of support size is tried, however many walls
+  // and objects the frame holds; max_planes bounds the supports kept.
+  std::vector<char> pool_up;
+  std::vector<double> pool_h;  // with pool_up: each pool point's height above the first plane
+  bool up_ready = false;
+  // Up-facing points within min_support_gap_m of a kept plane can give no later support
+  // (supports lie that far apart, below): they leave the candidates with its inliers.
+  auto clear_near = [&](const PlaneFit& kept) {
+    for (size_t k = 0; k < pool.size(); ++k)
+      if (pool_up[k] && std::abs(dot(kept.n, pool_pts[k]) + kept.d) < params.min_support_gap_m)
+        pool_up[k] = 0;
+  };
+  while (static_cast<int>(planes.size()) < params.max_planes && pool.size() >= 50) {
     // A plane holds at most the whole pool: when that is below min_plane_points no
     // search can give one (the search would end the loop the same way).
     if (static_cast<long long>(pool.size()) * stride * stride < params.min_plane_points) break;
+    if (!planes.empty() && !up_ready) {
+      const PlaneFit& first = planes.front().first;
+      pool_up = facing_up(f, pool, pool_cells, stride, first.n);
+      pool_h.resize(pool.size());
+      for (size_t k = 0; k < pool.size(); ++k) pool_h[k] = dot(first.n, pool_pts[k]) + first.d;
+      up_ready = true;
+      clear_near(first);
+    }
+    int peak = 0;
+    double peak_height = 0;
+    std::vector<size_t> at_peak;  // the pool's up-facing points in the peak's band
     const PlaneSearch ps =
         planes.empty() ? find_plane(f, params, up, params.max_plane_angle_deg, pool, pool_pts, free, false,
                                   rng)
-                       : find_parallel_plane(params, planes.front().first, pool_pts,
-                                             0.5 * params.max_support_tilt_deg);
-    if (!ps.plane.ok || ps.inliers * stride * stride < params.min_plane_points) break;
+                       : find_parallel_plane(params, planes.front().first, pool_pts, pool_h, pool_up,
+                                             0.5 * params.max_support_tilt_deg, peak, peak_height);
+    // A band with fewer up-facing points than a support's smallest region holds no
+    // support. Seen at a grazing angle (a level camera 26 cm above a table 2.5 m away)
+    // a fifth of a table's pixels still face up: dropout takes most of the rest.
+    if (!planes.empty() && peak < min_region) break;
+    if (!ps.plane.ok) break;
+    if (planes.empty() && ps.inliers * stride * stride < params.min_plane_points) break;
+    if (!planes.empty()) {
+      // The up-facing points of the peak's band (its pair of bins, peak_height +- band).
+      const double band = params.plane_distance_m;
+      for (size_t k = 0; k < pool.size(); ++k)
+        if (pool_up[k] && pool_h[k] >= peak_height - 1.5 * band && pool_h[k] < peak_height + 1.5 * band)
+          at_peak.push_back(k);
+      // The band an earlier support's own (its noisy far edge left outside its band;
+      // supports lie min_support_gap_m apart, below): these points leave the
+      // candidates, and the next band is tried.
+      bool echo = false;
+      for (const auto& [other, other_regions] : planes) {
+        std::vector<double> hs;
+        for (size_t m = 0; m < at_peak.size(); m += 7)
+          hs.push_back(dot(other.n, pool_pts[at_peak[m]]) + other.d);
+        if (hs.empty()) continue;
+        std::nth_element(hs.begin(), hs.begin() + hs.size() / 2, hs.end());
+        echo = echo || std::abs(hs[hs.size() / 2]) < params.min_support_gap_m;
+      }
+      if (echo) {
+        for (size_t k : at_peak) pool_up[k] = 0;
+        continue;
+      }
+    }
     // One pass finds the inliers for the regions and for leaving the pool.
     inliers.clear();
     inlier_cells.clear();
     for (size_t k = 0; k < pool.size(); ++k) {
       const Vec3& p = pool_pts[k];
-      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < plane_band(params, p.z)) {
+      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < pool_band[k]) {
         inliers.push_back(pool[k]);
         inlier_cells.push_back(pool_cells[k]);
       }
+    }
+    if (!planes.empty() && static_cast<int>(inliers.size()) * stride * stride < params.min_plane_points) {
+      // Too few points at this height (an object's top): its up-facing points leave
+      // the candidates, and the next band is tried.
+      for (size_t k : at_peak) pool_up[k] = 0;
+      continue;
     }
     std::vector<PlaneRegions> regions =
         plane_regions(f, inliers, inlier_cells, stride, min_region, true);
@@ -919,10 +1046,16 @@ struct Found {
     for (int i : inliers) free[i] = 0;
     size_t kept = 0;
     for (size_t k = 0; k < pool.size(); ++k)
-      if (free[pool[k]]) pool[kept] = pool[k], pool_cells[kept] = pool_cells[k], pool_pts[kept++] = pool_pts[k];
+      if (free[pool[k]]) {
+        if (up_ready) pool_up[kept] = pool_up[k], pool_h[kept] = pool_h[k];
+        pool_band[kept] = pool_band[k];
+        pool[kept] = pool[k], pool_cells[kept] = pool_cells[k], pool_pts[kept++] = pool_pts[k];
+      }
     pool.resize(kept);
+    pool_band.resize(kept);
     pool_cells.resize(kept);
     pool_pts.resize(kept);
+    if (up_ready) pool_up.resize(kept), pool_h.resize(kept);
     int total = 0;
     for (const PlaneRegions& r : regions) total += static_cast<int>(r.members.size()) * stride * stride;
     if (total < params.min_plane_points) continue;
@@ -946,7 +1079,18 @@ struct Found {
       }
     }
     if (!apart) continue;
+    // A later plane is a support only where it is seen from above (seen_from_above): a
+    // height band across a wall behind the table holds up-facing points where the depth
+    // noise tilts its normals, but no column of it runs away from the camera. Without
+    // this, such a band below the table was taken for the floor (the lowest plane keeps
+    // all its regions: samples/recordings/tabletop's wall, 32 cm below its table).
+    if (!planes.empty()) {
+      size_t above = 0;
+      for (const PlaneRegions& r : regions) above += seen_from_above(f, r, ps.plane, params).members.size();
+      if (static_cast<long long>(above) * stride * stride < params.min_plane_points) continue;
+    }
     planes.emplace_back(ps.plane, std::move(regions));
+    if (up_ready) clear_near(ps.plane);
   }
   // The lowest plane is the floor (or the one support seen): one support of all its
   // regions, as a floor seen between furniture is one floor. Every other plane gives
@@ -1261,7 +1405,16 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
         const int j = i - r * stride * f.width;
         if (j < 0) break;
         if (!valid(f.points[j])) continue;
-        const int o = surface_of[static_cast<size_t>(j)];
+        int o = surface_of[static_cast<size_t>(j)];
+        if (o < 0) {
+          // Not in a support's region, yet on a higher support's plane (a table top
+          // seen at a grazing angle keeps only part of itself as its region).
+          const Vec3 q = to_vec(f.points[j]);
+          for (size_t s = 0; s < ns && o < 0; ++s)
+            if (static_cast<int>(s) != k && found[s].plane.d < own.d &&
+                std::abs(dot(found[s].plane.n, q) + found[s].plane.d) < plane_band(params, q.z))
+              o = static_cast<int>(s);
+        }
         if (o < 0 || o == k) {
           // The support's front edge (its thickness) is no support pixel: look on
           // past pixels as near as the support would be, stop at anything behind.
@@ -1304,6 +1457,20 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     const PlaneFit& plane = found[static_cast<size_t>(k)].plane;
     const int min_points = least_points(grid);
     if (static_cast<int>(grid.size()) * stride * stride < min_points / 2) continue;
+    // Its width across the view and its top above its support. Widths are measured
+    // along the camera's x axis laid on the plane: a box seen face-on shows no depth,
+    // but its full width.
+    const Vec3 view_x = normalized(Vec3{1, 0, 0} - plane.n * plane.n.x);
+    double x_lo = 1e9, x_hi = -1e9, top_h = -1e9, bottom_h = 1e9;
+    for (int i : grid) {
+      const Vec3 p = to_vec(f.points[i]);
+      x_lo = std::min(x_lo, dot(view_x, p));
+      x_hi = std::max(x_hi, dot(view_x, p));
+      const double h = dot(plane.n, p) + plane.d;
+      top_h = std::max(top_h, h);
+      bottom_h = std::min(bottom_h, h);
+    }
+    const double width = x_hi - x_lo;
     if (params.drop_cut_clusters && continues_above(f, grid, stride, plane, params)) continue;
     // The body of a support above its own (a cabinet or a shelf under its top, a box
     // whose top is the support): where the cluster reaches that support's height, its
@@ -1355,21 +1522,23 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
       under = hi - lo < params.under_width_share * (shi - slo);
     }
     if (under) continue;
+    // A thin member standing on its support and rising to furniture height is no
+    // free-standing prop: an upright thing narrower than min_stand_ratio of its height
+    // tips over past a few degrees (atan 0.15: 8.5). It is a table's or a chair's leg,
+    // a pole, a lamp's stand, held by something above it, whether or not that is seen
+    // (a table top seen at a grazing angle keeps only part of itself as a support, and
+    // a leg's top 3 m away is a few noisy pixels, fewer than continues_above needs).
+    // It spans down to the support (its lower half seen): a thin piece seen only high
+    // above the support stands on something else there (an object on a cabinet whose
+    // top is no support found, cut by the image border).
+    if (top_h >= params.furniture_min_height_m && width < params.min_stand_ratio * top_h &&
+        bottom_h < 0.5 * top_h)
+      continue;
     // Its top hidden under a nearer, higher support: a leg whose top meets the table's
     // underside, the wall or a bin seen under the table. Thin ones are legs (dropped);
     // the others are flagged partial, since no one sees where they end.
     const int over = hidden_under(grid, k);
-    if (over >= 0) {
-      const Vec3 across = normalized(Vec3{1, 0, 0} - plane.n * plane.n.x);
-      double lo = 1e9, hi = -1e9, top_h = -1e9;
-      for (int i : grid) {
-        const Vec3 p = to_vec(f.points[i]);
-        lo = std::min(lo, dot(across, p));
-        hi = std::max(hi, dot(across, p));
-        top_h = std::max(top_h, dot(plane.n, p) + plane.d);
-      }
-      if (hi - lo < params.under_width_share * top_h) continue;
-    }
+    if (over >= 0 && width < params.under_width_share * top_h) continue;
     accepted.push_back({&grid, k, min_points, over});
   }
   // Touching objects apart at the creases and depth steps between them, each cluster

@@ -71,6 +71,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"min_support_gap_m", Kind::non_negative, &p.min_support_gap_m},
       {"under_width_share", Kind::unit_share, &p.under_width_share},
       {"furniture_min_height_m", Kind::non_negative, &p.furniture_min_height_m},
+      {"min_stand_ratio", Kind::non_negative, &p.min_stand_ratio},
       {"min_cluster_points_far", Kind::whole, nullptr, &p.min_cluster_points_far, 12},
       {"border_px", Kind::whole, nullptr, &p.border_px, 0},
       {"min_whole_points", Kind::whole, nullptr, &p.min_whole_points, 0},

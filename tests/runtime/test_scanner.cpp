@@ -584,9 +584,74 @@ TEST(ScannerWorld, TableObjectsFoundOnTheirSupportsAndNoLegsOrSlivers) {
   EXPECT_GE(on_right_support, found * 90 / 100) << on_right_support << " of " << found;
   EXPECT_EQ(legs, 0);
   EXPECT_EQ(slivers, 0);
-  // One cabinet body left (seed 2002): its top is not among the planes searched, so
-  // nothing tells it from a big box on the floor (4 before the furniture rule).
-  EXPECT_LE(furniture, 1);
+  // No furniture body reported whole on these seeds (4 before the furniture rule, 1
+  // before every up-facing height was searched).
+  EXPECT_EQ(furniture, 0);
+}
+
+TEST(ScannerWorld, TallFurnitureSeenSteeplyFromAboveIsNoProp) {
+  // Seeds 2031 and 2056: a cupboard 1.6 to 2 m tall beside the table, 3 m away, seen
+  // from above at a steep angle: its front's rows lie 2 to 3 cm apart, more than the
+  // cluster tolerance, so its slice in the height band looked like it ended there and
+  // came out as a box of 0.59 m (the band's top). Its rows are evenly spaced: the
+  // front continues above the band and the slice is dropped.
+  for (std::uint64_t seed : {2031u, 2056u}) {
+    const SyntheticFrame f = world(seed);
+    const Result<ScanResult> scan = scan_frame(f.frame);
+    ASSERT_TRUE(scan.ok()) << scan.error().format();
+    for (size_t k = 0; k < scan->clusters.size(); ++k) {
+      const PhysicalObject& o = scan->scene.objects[k];
+      if (!o.partial)
+        EXPECT_NE(majority_label(f, scan->clusters[k]), kLabelFurniture)
+            << "seed " << seed << " " << o.id << " is a furniture slice reported whole";
+    }
+  }
+}
+
+TEST(ScannerWorld, EverySupportOfARoomFullOfCabinetsIsFound) {
+  // Six cabinets of different heights beside the table (15 to 65 cm), with the table and
+  // the floor eight horizontal surfaces and walls, legs and objects between them: each
+  // cabinet's top is a support, however many surfaces the frame holds. (Six plane
+  // searches, walls included, could not reach them all.)
+  Result<SyntheticScene> scene = generate_scene(world_scene_params(2005));
+  ASSERT_TRUE(scene.ok()) << scene.error().format();
+  SyntheticScene s = *scene;
+  // Only the table's objects and legs stay; the cabinets, 40 cm wide and deep, stand in
+  // two rows beside the table, lower ones nearer to the camera.
+  std::vector<SyntheticBlock> kept;
+  for (const SyntheticBlock& b : s.furniture)
+    if (b.role == SyntheticBlock::Role::leg) kept.push_back(b);
+  s.furniture = kept;
+  std::erase_if(s.objects, [](const SyntheticObject& o) { return o.support != 0; });
+  s.camera_tilt_deg = 40;
+  s.camera_position = Vec3{0, 0, 0} - Vec3{0, std::cos(40 * 3.14159265358979 / 180), -std::sin(40 * 3.14159265358979 / 180)} * 2.2;
+  s.wall_y_m = 1.4;
+  // The tallest top is 10 cm under the table's (min_support_gap_m apart).
+  const double heights[2][3] = {{0.15, 0.35, 0.55}, {0.25, 0.45, 0.65}};
+  for (int side = 0; side < 2; ++side)
+    for (int row = 0; row < 3; ++row) {
+      const double h = heights[side][row];
+      s.furniture.push_back({{(side ? 1 : -1) * (s.table_half_x_m + 0.3), -0.4 + 0.5 * row,
+                              -s.floor_depth_m + h * 0.5},
+                             {0.4, 0.4, h},
+                             SyntheticBlock::Role::support});
+    }
+  const SyntheticFrame f = render_scene(s);
+  const Result<ScanResult> scan = scan_frame(f.frame);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  // Each cabinet's top centre lies on a support found (within 2 cm: a plane's offset
+  // alone is off by more 2 m away, where a tenth of a degree of tilt moves it).
+  int found = 0;
+  for (const SyntheticBlock& b : s.furniture) {
+    if (b.role != SyntheticBlock::Role::support) continue;
+    const Vec3 top = table_to_camera_point(s, b.center + Vec3{0, 0, b.size_m.z * 0.5});
+    bool seen = false;
+    for (const ScanSupport& got : scan->supports)
+      seen = seen || std::abs(dot(got.surface.plane.normal, top) + got.surface.plane.d) < 0.02;
+    found += seen;
+    EXPECT_TRUE(seen) << "the cabinet " << b.size_m.z << " m tall is not a support";
+  }
+  EXPECT_EQ(found, 6);
 }
 
 TEST(ScannerFar, SmallFarToriAndBallsAreNotBoxesOrCones) {
@@ -778,6 +843,68 @@ TEST(ScanConfig, SupportChoices) {
   EXPECT_EQ(id->support_id, "s3");
   expect_error("\nsupports tallest\n", 2, 10, "supports must be all, nearest, highest, largest");
   expect_error("supports s0\n", 1, 10, "support id such as s2");
+}
+
+TEST(ScannerWorld, RecordingsWallBandBelowTheTableIsNoFloor) {
+  // samples/recordings/tabletop: a table seen from 62 cm above it and the wall behind.
+  // A height band 32 cm below the table cuts the wall where depth noise tilts a few
+  // normals up; no column of it runs away from the camera, so it is no support (taken
+  // for the floor, it renumbered the recording's objects and made the wall's strip a
+  // 73,330-point object on it).
+  Result<Frame> f = read_pcd(std::filesystem::path(ANNEX_SOURCE_DIR) / "samples/recordings/tabletop/frame_0000.pcd");
+  ASSERT_TRUE(f.ok()) << f.error().format();
+  const Result<ScanResult> scan = scan_frame(*f);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  ASSERT_EQ(scan->supports.size(), 1u);
+  EXPECT_NEAR(scan->supports[0].surface.plane.d, 0.623, 0.005);
+  // The cylinder, the wall's strip (partial), the roll of tape, the ball: the ids the
+  // recording's README, the CLI and the binding tests name.
+  ASSERT_EQ(scan->scene.objects.size(), 4u);
+  EXPECT_EQ(scan->scene.objects[0].primitives.at(0).kind, ShapeKind::cylinder);
+  EXPECT_TRUE(scan->scene.objects[1].partial);
+  EXPECT_EQ(scan->scene.objects[2].primitives.at(0).kind, ShapeKind::torus);
+  EXPECT_EQ(scan->scene.objects[3].primitives.at(0).kind, ShapeKind::sphere);
+}
+
+TEST(ScannerWorld, LegsSeenFromJustAboveTheTableAreNoProps) {
+  // Held-out seeds 5005, 5035 and 5114 (never tuned on): a level camera 25 to 30 cm
+  // above a table 2.4 to 3.3 m away sees its legs from the floor up to the band's top,
+  // three to five grid pixels wide, while the table top is found in part or not at all.
+  // The legs rose through the band's top by fewer joins than a wider surface needs, and
+  // nothing above them was a support's region: seven legs reported as cylinders and
+  // boxes of 0.55 to 0.59 m. A member standing on the floor narrower than
+  // min_stand_ratio of its height cannot stand free: none is a prop now.
+  for (std::uint64_t seed : {5005u, 5035u, 5114u}) {
+    const SyntheticFrame f = world(seed);
+    const Result<ScanResult> scan = scan_frame(f.frame);
+    ASSERT_TRUE(scan.ok()) << scan.error().format();
+    for (size_t k = 0; k < scan->clusters.size(); ++k) {
+      const PhysicalObject& o = scan->scene.objects[k];
+      if (!o.partial)
+        EXPECT_NE(majority_label(f, scan->clusters[k]), kLabelLeg)
+            << "seed " << seed << " " << o.id << " is a table leg reported whole";
+    }
+  }
+}
+
+TEST(ScannerWorld, ANarrowObjectOnACabinetIsNotALeg) {
+  // Held-out seed 5102: a cylinder stands on a cabinet whose top is no support found, so
+  // it belongs to the floor's band and its top crosses the band's top, cut by the image
+  // border to a strip 9 cm wide. It is narrow and runs on above the band like a leg, but
+  // its lowest point is the cabinet's top, 47 cm up: it does not reach down to its
+  // support, so it is kept (partial).
+  const SyntheticFrame f = world(5102);
+  const Result<ScanResult> scan = scan_frame(f.frame);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  int on_cabinet = -1;
+  for (size_t t = 0; t < f.truth.objects.size(); ++t)
+    if (f.truth.objects[t].support_id != "table" &&
+        f.truth.objects[t].primitives[0].kind == ShapeKind::cylinder)
+      on_cabinet = static_cast<int>(t);
+  ASSERT_GE(on_cabinet, 0);
+  bool found = false;
+  for (const ScanCluster& c : scan->clusters) found = found || majority_label(f, c) == on_cabinet;
+  EXPECT_TRUE(found);
 }
 
 }  // namespace

@@ -41,10 +41,12 @@ struct ScanParams {
   double plane_noise_factor = 2.5;
   int plane_iterations = 300;       // RANSAC samples
   int min_plane_points = 2000;      // full-resolution points
-  // Supports are extracted one after another (each plane's inliers leave the search),
-  // at most this many planes tried; every near-horizontal one holding
-  // min_plane_points counts.
-  int max_planes = 6;
+  // Supports are extracted one after another (each plane's inliers leave the search):
+  // the first by RANSAC, the others at the heights where up-facing points concentrate,
+  // until no such height holds a quarter of min_plane_points; at most this many planes are
+  // kept (a bound on the cost, not a search budget: walls and rejected heights do not
+  // count). Every near-horizontal one holding min_plane_points counts.
+  int max_planes = 10;
   // Supports after the first are within this angle of its normal (a room's floor,
   // tables and shelves share one up) and span at least this much (a carton's top is
   // not a support; a box top of 20 x 20 cm is).
@@ -71,6 +73,10 @@ struct ScanParams {
   // stands at least this far above the body's own support: furniture rises to a
   // working height, while a box a can stands on is a prop of hand size (stacking).
   double furniture_min_height_m = 0.3;
+  // A cluster rising at least furniture_min_height_m above its support yet narrower
+  // across the view than this share of that height is a leg or a pole, not a prop: a
+  // free-standing thing that slim tips over past atan(ratio) (0.15: 8.5 degrees).
+  double min_stand_ratio = 0.15;
   int pixel_stride = 2;             // plane search works on every n-th pixel
   // The hull of the support's visible part is extended to the camera's foot on the
   // plane (objects in front of the visible floor hide the floor under them).
