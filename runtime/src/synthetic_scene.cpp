@@ -297,14 +297,40 @@ bool is_boxy(const SyntheticObject& o) {
   return o.kind == ShapeKind::box || o.kind == ShapeKind::plane;
 }
 
-// Beside `partner` on the same table, the footprints touching: along one of a box
-// partner's axes (a box placed there turned like it, face to face), else any way.
+// Half the object's horizontal extent along u at height z above its support (0 where
+// the object does not reach): the radius profile of a round shape, a box's support
+// function over its height.
+double extent_at(const SyntheticObject& o, Vec3 u, double z) {
+  const auto& d = o.dimensions_m;
+  const double h = 2 * center_height(o);
+  if (z < 0 || z > h) return 0;
+  switch (o.kind) {
+    case ShapeKind::sphere: return std::sqrt(std::max(0.0, d[0] * d[0] - (z - d[0]) * (z - d[0])));
+    case ShapeKind::cylinder: return d[0];
+    case ShapeKind::cone: {
+      const double up = o.apex_down ? z / h : 1 - z / h;  // 1 at the wide end
+      return o.narrow_radius_m + (d[0] - o.narrow_radius_m) * up;
+    }
+    case ShapeKind::torus: return d[0] + std::sqrt(std::max(0.0, d[1] * d[1] - (z - d[1]) * (z - d[1])));
+    case ShapeKind::box:
+    case ShapeKind::plane: return extent_along(o, u);
+  }
+  return 0;
+}
+
+// Beside `partner` on the same table, touching it: along one of a box partner's axes
+// (a box placed there turned like it, face to face), else any way, at the distance
+// where the two profiles meet at one height and nowhere overlap.
 void place_touching(SyntheticObject& obj, const SyntheticObject& partner, std::mt19937_64& rng) {
   double heading = uniform(rng, 0, 2 * std::numbers::pi);
   if (is_boxy(partner)) heading = deg_to_rad(partner.yaw_deg + 90.0 * uniform_int(rng, 0, 3));
   if (is_boxy(obj)) obj.yaw_deg = std::fmod(heading * 180.0 / std::numbers::pi + 360.0, 360.0);
   const Vec3 u{std::cos(heading), std::sin(heading), 0};
-  const double gap = extent_along(partner, u) + extent_along(obj, u);
+  const double top = 2 * std::min(center_height(obj), center_height(partner));
+  double gap = extent_along(partner, u) + extent_along(obj, u);  // a sheet: no height
+  if (top > 0) gap = 0;
+  for (double z = 0; top > 0 && z <= top + 1e-9; z += top / 200)
+    gap = std::max(gap, extent_at(partner, u, z) + extent_at(obj, u * -1.0, z));
   obj.center = {partner.center.x + u.x * gap, partner.center.y + u.y * gap, center_height(obj)};
 }
 
