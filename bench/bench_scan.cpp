@@ -14,8 +14,10 @@
 //        speed section alone, e.g. under callgrind; --verbose: every world-set miss,
 //        misclassification, leg and sliver; --png-dir: the world scenes' pictures, frames;
 //        --world-seed: the world set's first seed, 2001: the tuned set; 5001: held out;
-//        --rooms: room_scene_params, table heights 0.4-1.1 m and a rolled camera)
+//        --rooms: room_scene_params, table heights 0.4-1.1 m, a rolled camera, chairs,
+//        shelves, objects on the floor, touching, across a table edge, dark)
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -290,6 +292,41 @@ std::string truth_class(const PhysicalPrimitive& p) {
   return name;
 }
 
+const char* background_name(int label) {
+  switch (label) {
+    case kLabelLeg: return "leg";
+    case kLabelFurniture: return "furniture";
+    case kLabelChair: return "chair";
+    case kLabelShelf: return "shelf";
+    default: return "background";
+  }
+}
+
+// The room features a generated object has (none in world_scene_params' scenes).
+std::vector<std::string> room_features(const SyntheticObject& o) {
+  std::vector<std::string> out;
+  if (o.support < 0) out.push_back("floor");
+  if (o.touching >= 0) out.push_back("touching");
+  if (o.overhang) out.push_back("overhang");
+  if (o.albedo < 1) out.push_back("dark");
+  return out;
+}
+
+// One truth object into a band's tally: found, class, size errors (boxes' sides sorted).
+void tally_feature(BandTally& b, const PhysicalPrimitive& tp, const PhysicalObject* got) {
+  ++b.objects;
+  if (!got) return;
+  ++b.found;
+  if (got->primitives.empty() || got->primitives[0].kind != tp.kind) return;
+  ++b.correct;
+  std::vector<double> a = tp.dimensions_m, g = got->primitives[0].dimensions_m;
+  if (tp.kind == ShapeKind::box) {
+    std::sort(a.begin(), a.begin() + 2);
+    std::sort(g.begin(), g.begin() + 2);
+  }
+  for (size_t i = 0; i < a.size() && i < g.size(); ++i) b.errors.push_back(std::abs(a[i] - g[i]));
+}
+
 // `first_seed`: the first scene's seed (2001, the set the scanner was tuned on; any
 // other start is a held-out set).
 // `room`: room_scene_params (table heights 0.4-1.1 m, camera roll) instead of
@@ -298,8 +335,12 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
   const char* bands[] = {"< 1.5 m", "1.5-2.5 m", "> 2.5 m"};
   BandTally tally[3];
   std::map<std::string, std::map<std::string, int>> confusion;
-  int false_props = 0, false_legs = 0, false_furniture = 0, slivers = 0, partial_flagged = 0,
-      cut_objects = 0, fragments = 0, scans = 0, failures = 0;
+  int false_props = 0, false_legs = 0, false_furniture = 0, false_chairs = 0, false_shelves = 0,
+      slivers = 0, partial_flagged = 0, cut_objects = 0, fragments = 0, scans = 0, failures = 0;
+  // The room features (room_scene_params): per feature and band, and touching pairs.
+  std::map<std::string, std::array<BandTally, 3>> by_feature;
+  std::map<std::string, std::map<std::string, int>> feature_confusion;
+  int pairs = 0, pairs_split = 0;
   std::vector<double> scan_ms;
   for (int k = 1; k <= scenes; ++k) {
     const int seed = first_seed + k - 1;
@@ -341,9 +382,11 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
         ++false_props;
         false_legs += owner[k2] == kLabelLeg;
         false_furniture += owner[k2] == kLabelFurniture;
+        false_chairs += owner[k2] == kLabelChair;
+        false_shelves += owner[k2] == kLabelShelf;
         if (verbose)
           std::printf("  seed %d %s: %s reported whole (%s, %d points)\n", seed, o.id.c_str(),
-                      owner[k2] == kLabelLeg ? "leg" : owner[k2] == kLabelFurniture ? "furniture" : "background",
+                      background_name(owner[k2]),
                       o.primitives.empty() ? "unknown" : std::string(shape_name(o.primitives[0].kind)).c_str(),
                       o.point_count);
       } else if (f.truth.objects[static_cast<size_t>(owner[k2])].partial) {
@@ -354,8 +397,31 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
                       o.point_count);
       }
     }
+    // The scanned object standing for each truth object: the largest of those whose
+    // pixels are mostly its.
+    std::vector<int> picks(f.truth.objects.size(), -1);
+    std::vector<size_t> pick_pixels(f.truth.objects.size(), 0);
+    for (size_t k2 = 0; k2 < owner.size(); ++k2) {
+      if (owner[k2] < 0) continue;
+      const auto t = static_cast<size_t>(owner[k2]);
+      if (scan->clusters[k2].pixels.size() > pick_pixels[t])
+        pick_pixels[t] = scan->clusters[k2].pixels.size(), picks[t] = static_cast<int>(k2);
+    }
+    for (size_t t = 0; t < f.truth.objects.size(); ++t) {
+      const int partner = scene->objects[t].touching;
+      if (partner < 0 || f.truth.objects[t].partial ||
+          f.truth.objects[static_cast<size_t>(partner)].partial)
+        continue;
+      ++pairs;
+      if (picks[t] >= 0 && picks[static_cast<size_t>(partner)] >= 0) ++pairs_split;
+      else if (verbose)
+        std::printf("  seed %d truth %zu and %d touching: %s\n", seed, t, partner,
+                    picks[t] < 0 && picks[static_cast<size_t>(partner)] < 0 ? "both missed"
+                                                                            : "one missed or merged");
+    }
     for (size_t t = 0; t < f.truth.objects.size(); ++t) {
       const PhysicalObject& truth = f.truth.objects[t];
+      const std::vector<std::string> features = room_features(scene->objects[t]);
       if (truth.partial) {
         ++cut_objects;
         continue;
@@ -365,8 +431,20 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
       if (tp.kind != ShapeKind::box) largest = std::max(largest, 2 * tp.dimensions_m[0]);
       if (largest < 0.05) continue;
       const double dist = norm(tp.center);
-      BandTally& b = tally[dist < 1.5 ? 0 : dist < 2.5 ? 1 : 2];
+      const int band = dist < 1.5 ? 0 : dist < 2.5 ? 1 : 2;
+      BandTally& b = tally[band];
       ++b.objects;
+      const std::string shape_row = truth_class(tp);
+      const std::string got_col =
+          picks[t] < 0 ? "missed"
+          : scan->scene.objects[static_cast<size_t>(picks[t])].primitives.empty()
+              ? "unknown"
+              : std::string(shape_name(scan->scene.objects[static_cast<size_t>(picks[t])].primitives[0].kind));
+      for (const std::string& feature : features) {
+        ++feature_confusion[feature + ": " + shape_row][got_col];
+        tally_feature(by_feature[feature][static_cast<size_t>(band)], tp,
+                      picks[t] < 0 ? nullptr : &scan->scene.objects[static_cast<size_t>(picks[t])]);
+      }
       int pick = -1, pieces = 0;
       size_t most = 0;
       for (size_t k2 = 0; k2 < owner.size(); ++k2)
@@ -436,10 +514,30 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
                 b.found ? 100.0 * b.support_right / b.found : 0.0, b.direction_right, b.cones);
   }
   std::printf("  false props (background, legs, furniture reported whole): %d (legs %d, "
-              "furniture %d); border slivers reported whole: %d; cut objects flagged partial: "
-              "%d (of %d cut objects); extra fragments: %d\n",
-              false_props, false_legs, false_furniture, slivers, partial_flagged, cut_objects,
-              fragments);
+              "furniture %d, chairs %d, shelves %d); border slivers reported whole: %d; cut "
+              "objects flagged partial: %d (of %d cut objects); extra fragments: %d\n",
+              false_props, false_legs, false_furniture, false_chairs, false_shelves, slivers,
+              partial_flagged, cut_objects, fragments);
+  if (!by_feature.empty()) {
+    std::printf("  room features (objects >= 5 cm, not cut; found / class / median size error per band):\n");
+    for (const auto& [feature, bands3] : by_feature) {
+      std::printf("    %-9s", feature.c_str());
+      for (int i = 0; i < 3; ++i) {
+        const BandTally& t = bands3[static_cast<size_t>(i)];
+        std::printf("  %s %d/%d %5.1f%% %5.2f mm", bands[i], t.found, t.objects,
+                    t.objects ? 100.0 * t.correct / t.objects : 0.0, 1000 * median(t.errors));
+      }
+      std::printf("\n");
+    }
+    std::printf("    touching pairs (both whole): %d, both found as separate objects: %d\n", pairs,
+                pairs_split);
+    std::printf("  room features' confusion (truth -> scanned):\n");
+    for (const auto& [row, cols] : feature_confusion) {
+      std::printf("    %-38s", row.c_str());
+      for (const auto& [col, n] : cols) std::printf(" %s=%d", col.c_str(), n);
+      std::printf("\n");
+    }
+  }
   std::printf("  confusion (truth -> scanned, all distances):\n");
   for (const auto& [row, cols] : confusion) {
     std::printf("    %-30s", row.c_str());

@@ -18,7 +18,8 @@ Rgb shade(Rgb c, double cos_incidence) {
 void sense_pixels(const std::vector<PixelHit>& hits, const CameraIntrinsics& cam,
                   const SensorNoiseParams& noise, Draws& draws,
                   const std::function<Rgb(int label)>& colour, Frame& frame,
-                  std::vector<int>& labels) {
+                  std::vector<int>& labels,
+                  const std::function<double(const SurfaceHit&)>& return_keep) {
   const int w = cam.width, h = cam.height;
   const std::size_t n = static_cast<std::size_t>(w) * h;
   frame.width = w;
@@ -52,6 +53,7 @@ void sense_pixels(const std::vector<PixelHit>& hits, const CameraIntrinsics& cam
         for (const auto& [du, dv] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}})
           if (std::abs(depth_at(u + du, v + dv) - z) > noise.edge_jump_m) edge = true;
         if (edge) keep *= 1 - noise.edge_dropout;
+        if (return_keep) keep *= return_keep(px.surface);
         const double draw = draws.unit(draws.rng);
         const double e = draws.gauss(draws.rng);
         if (draw >= keep) continue;

@@ -57,10 +57,13 @@ std::vector<PixelHit> cast_pixels(const CameraIntrinsics& cam, double jitter_px,
 using Rgb = std::array<std::uint8_t, 3>;
 
 // Pass 2: the organized frame (points, shaded colours from `colour(label)`) and the
-// labels of `hits`, the sensor model applied when `noise.enabled`.
+// labels of `hits`, the sensor model applied when `noise.enabled`. `return_keep`, when
+// set, scales the chance a surface returns depth (a dark surface's weak infrared
+// return); it draws nothing, so the random stream is the same with or without it.
 void sense_pixels(const std::vector<PixelHit>& hits, const CameraIntrinsics& cam,
                   const SensorNoiseParams& noise, Draws& draws,
                   const std::function<Rgb(int label)>& colour, Frame& frame,
-                  std::vector<int>& labels);
+                  std::vector<int>& labels,
+                  const std::function<double(const SurfaceHit&)>& return_keep = {});
 
 }  // namespace annex::synthetic_pixels

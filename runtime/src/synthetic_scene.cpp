@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <random>
@@ -79,6 +80,20 @@ double footprint_radius(const SyntheticObject& o) {
     case ShapeKind::plane: return 0.5 * std::hypot(d[0], d[1]);
   }
   return 0;
+}
+
+// Half the object's horizontal extent along the horizontal unit vector u: a box's
+// support function, the footprint radius for round shapes.
+double extent_along(const SyntheticObject& o, Vec3 u) {
+  if (o.kind != ShapeKind::box && o.kind != ShapeKind::plane) return footprint_radius(o);
+  const double yaw = o.yaw_deg * std::numbers::pi / 180.0;
+  const double along_x = std::abs(std::cos(yaw) * u.x + std::sin(yaw) * u.y);
+  const double along_y = std::abs(-std::sin(yaw) * u.x + std::cos(yaw) * u.y);
+  return 0.5 * (along_x * o.dimensions_m[0] + along_y * o.dimensions_m[1]);
+}
+
+int uniform_int(std::mt19937_64& rng, int lo, int hi) {
+  return std::uniform_int_distribution<int>(lo, hi)(rng);
 }
 
 // Cones of every kind (world_scene_params): apex up or down, pointed or cut, flat or
@@ -180,6 +195,33 @@ constexpr std::array<std::array<std::uint8_t, 3>, 10> kPalette{{{220, 50, 47},
                                                                 {240, 240, 240},
                                                                 {30, 30, 30}}};
 
+int block_label(SyntheticBlock::Role role) {
+  switch (role) {
+    case SyntheticBlock::Role::leg: return kLabelLeg;
+    case SyntheticBlock::Role::chair: return kLabelChair;
+    case SyntheticBlock::Role::shelf: return kLabelShelf;
+    case SyntheticBlock::Role::support:
+    case SyntheticBlock::Role::tall: return kLabelFurniture;
+  }
+  return kLabelFurniture;
+}
+
+// A dark object's infrared return, albedo * cos(incidence) / z^2 (z in metres), against
+// the sensor's detection floor: none below 0.02, all above 0.07, linear between (a
+// white surface head-on stays above it to 3.8 m); other surfaces keep their model.
+std::function<double(const synthetic_pixels::SurfaceHit&)> dark_return(const SyntheticScene& s) {
+  bool any = false;
+  for (const SyntheticObject& o : s.objects) any = any || o.albedo < 1;
+  if (!any) return {};
+  std::vector<double> albedo;
+  for (const SyntheticObject& o : s.objects) albedo.push_back(o.albedo);
+  return [albedo](const synthetic_pixels::SurfaceHit& h) {
+    if (h.label < 0 || albedo[static_cast<std::size_t>(h.label)] >= 1) return 1.0;
+    const double r = albedo[static_cast<std::size_t>(h.label)] * h.cos_incidence / (h.depth * h.depth);
+    return std::clamp((r - 0.02) / 0.05, 0.0, 1.0);
+  };
+}
+
 }  // namespace
 
 double kinect_axial_sigma_m(double z_m) {
@@ -204,6 +246,9 @@ double uniform_side(const SyntheticSceneParams& params, std::mt19937_64& rng) {
   return uniform(rng, 0, 1) < 0.5 ? -1 : 1;
 }
 constexpr int kPlacementAttempts = 300;
+void add_room_furniture(const SyntheticSceneParams& params, SyntheticScene& s, std::mt19937_64& rng);
+void add_floor_objects(const SyntheticSceneParams& params, SyntheticScene& s, std::mt19937_64& rng,
+                       std::vector<PixelRect>& rects);
 std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std::mt19937_64& rng,
                                          int& placed_count);
 }  // namespace
@@ -223,6 +268,12 @@ Result<SyntheticScene> generate_scene(const SyntheticSceneParams& params) {
     return Error{"table height range outside 0.2-1.5 m or camera roll outside 0-30 degrees", {}};
   if (params.side_support_objects < 0 || !(params.cut_share >= 0 && params.cut_share <= 1))
     return Error{"side support objects must not be negative, cut share within [0, 1]", {}};
+  auto share = [](double x) { return x >= 0 && x <= 1; };
+  if (params.floor_objects < 0 || !share(params.chair_chance) || !share(params.shelf_chance) ||
+      !share(params.touching_share) || !share(params.overhang_share) || !share(params.dark_share))
+    return Error{"floor objects must not be negative; chair and shelf chances, touching, "
+                 "overhang and dark shares within [0, 1]",
+                 {}};
 
   // Whole layouts are redrawn (camera included) when the objects do not fit; the
   // random stream stays the seed's, so the result is still deterministic.
@@ -241,6 +292,177 @@ Result<SyntheticScene> generate_scene(const SyntheticSceneParams& params) {
 }
 
 namespace {
+
+bool is_boxy(const SyntheticObject& o) {
+  return o.kind == ShapeKind::box || o.kind == ShapeKind::plane;
+}
+
+// Half the object's horizontal extent along u at height z above its support (0 where
+// the object does not reach): the radius profile of a round shape, a box's support
+// function over its height.
+double extent_at(const SyntheticObject& o, Vec3 u, double z) {
+  const auto& d = o.dimensions_m;
+  const double h = 2 * center_height(o);
+  if (z < 0 || z > h) return 0;
+  switch (o.kind) {
+    case ShapeKind::sphere: return std::sqrt(std::max(0.0, d[0] * d[0] - (z - d[0]) * (z - d[0])));
+    case ShapeKind::cylinder: return d[0];
+    case ShapeKind::cone: {
+      const double up = o.apex_down ? z / h : 1 - z / h;  // 1 at the wide end
+      return o.narrow_radius_m + (d[0] - o.narrow_radius_m) * up;
+    }
+    case ShapeKind::torus: return d[0] + std::sqrt(std::max(0.0, d[1] * d[1] - (z - d[1]) * (z - d[1])));
+    case ShapeKind::box:
+    case ShapeKind::plane: return extent_along(o, u);
+  }
+  return 0;
+}
+
+// Beside `partner` on the same table, touching it: along one of a box partner's axes
+// (a box placed there turned like it, face to face), else any way, at the distance
+// where the two profiles meet at one height and nowhere overlap.
+void place_touching(SyntheticObject& obj, const SyntheticObject& partner, std::mt19937_64& rng) {
+  double heading = uniform(rng, 0, 2 * std::numbers::pi);
+  if (is_boxy(partner)) heading = deg_to_rad(partner.yaw_deg + 90.0 * uniform_int(rng, 0, 3));
+  if (is_boxy(obj)) obj.yaw_deg = std::fmod(heading * 180.0 / std::numbers::pi + 360.0, 360.0);
+  const Vec3 u{std::cos(heading), std::sin(heading), 0};
+  const double top = 2 * std::min(center_height(obj), center_height(partner));
+  double gap = extent_along(partner, u) + extent_along(obj, u);  // a sheet: no height
+  if (top > 0) gap = 0;
+  for (double z = 0; top > 0 && z <= top + 1e-9; z += top / 200)
+    gap = std::max(gap, extent_at(partner, u, z) + extent_at(obj, u * -1.0, z));
+  obj.center = {partner.center.x + u.x * gap, partner.center.y + u.y * gap, center_height(obj)};
+}
+
+// Across the table's front, left or right edge: the centre over the table (it stands),
+// 25 to 75 % of its extent across the edge beyond it. False when it cannot fit.
+bool place_overhanging(SyntheticObject& obj, const SyntheticScene& s, std::mt19937_64& rng) {
+  const int edge = uniform_int(rng, 0, 2);  // 0 front (towards the camera), 1 left, 2 right
+  const Vec3 out = edge == 0 ? Vec3{0, -1, 0} : Vec3{edge == 1 ? -1.0 : 1.0, 0, 0};
+  const double e = extent_along(obj, out) * uniform(rng, 0.25, 0.75);  // inside by e
+  const double along_half = edge == 0 ? s.table_half_x_m : s.table_half_y_m;
+  const double along_extent = extent_along(obj, edge == 0 ? Vec3{1, 0, 0} : Vec3{0, 1, 0});
+  const double room = along_half - along_extent - 0.02;
+  if (room <= 0) return false;
+  const double along = uniform(rng, -room, room);
+  if (edge == 0) obj.center = {along, -s.table_half_y_m + e, center_height(obj)};
+  else obj.center = {out.x * (s.table_half_x_m - e), along, center_height(obj)};
+  return true;
+}
+
+// Whether the table or a furniture block hides point p (table frame) from the camera.
+bool sight_blocked(const SyntheticScene& s, Vec3 p) {
+  const Vec3 o = s.camera_position, d = p - o;
+  auto before = [](const LocalHit& h) { return h.t > kMinT && h.t < 0.995; };
+  const Vec3 table_half{s.table_half_x_m, s.table_half_y_m, s.table_thickness_m * 0.5};
+  if (before(hit_box(o - Vec3{0, 0, -s.table_thickness_m * 0.5}, d, table_half))) return true;
+  for (const SyntheticBlock& b : s.furniture)
+    if (before(hit_box(o - b.center, d, b.size_m * 0.5))) return true;
+  return false;
+}
+
+// A chair at the table's far side and a two-level shelf against the wall, each by its
+// chance; the wall moves back to make room. Nothing drawn when both chances are 0.
+void add_room_furniture(const SyntheticSceneParams& params, SyntheticScene& s, std::mt19937_64& rng) {
+  const bool chair = params.chair_chance > 0 && uniform(rng, 0, 1) < params.chair_chance;
+  const bool shelf = params.shelf_chance > 0 && uniform(rng, 0, 1) < params.shelf_chance;
+  if (!chair && !shelf) return;
+  const double side = uniform(rng, 0, 1) < 0.5 ? -1 : 1;  // the chair's half, the shelf the other
+  const double floor = -s.floor_depth_m;
+  if (chair) {
+    const double w = uniform(rng, 0.4, 0.48), d = uniform(rng, 0.4, 0.48);
+    const double seat_top = uniform(rng, 0.42, 0.48), back = uniform(rng, 0.35, 0.5);
+    const double thick = 0.03, leg = 0.03;
+    // Its seat's front edge under the table when the seat clears the table's underside
+    // (and its legs clear the table's), else a gap behind the table.
+    const bool fits_under = seat_top + 0.02 < s.floor_depth_m - s.table_thickness_m;
+    const double under = fits_under ? uniform(rng, 0.05, 0.2) : -uniform(rng, 0.03, 0.12);
+    const double x = side * uniform(rng, 0.0, s.table_half_x_m - 0.11 - 0.5 * w);
+    const double y = s.table_half_y_m - under + 0.5 * d;
+    s.furniture.push_back({{x, y, floor + seat_top - 0.5 * thick}, {w, d, thick}, SyntheticBlock::Role::chair});
+    s.furniture.push_back({{x, y + 0.5 * (d - thick), floor + seat_top + 0.5 * back},
+                           {w, thick, back},
+                           SyntheticBlock::Role::chair});
+    const double leg_height = seat_top - thick;
+    for (double sx : {-1.0, 1.0})
+      for (double sy : {-1.0, 1.0})
+        s.furniture.push_back({{x + sx * (0.5 * w - 0.02 - 0.5 * leg), y + sy * (0.5 * d - 0.02 - 0.5 * leg),
+                                floor + 0.5 * leg_height},
+                               {leg, leg, leg_height},
+                               SyntheticBlock::Role::chair});
+    s.wall_y_m = std::max(s.wall_y_m, y + 0.5 * d + 0.05);
+  }
+  if (shelf) {
+    const double w = uniform(rng, 0.6, 0.9), d = uniform(rng, 0.28, 0.38);
+    const double low = uniform(rng, 0.25, 0.4), high = low + uniform(rng, 0.3, 0.4);
+    const double board = 0.02;
+    s.wall_y_m = std::max(s.wall_y_m, s.table_half_y_m + d + 0.1);
+    const double x = -side * (0.5 * w + uniform(rng, 0.25, 0.45));
+    const double y = s.wall_y_m - 0.5 * d - 0.005;
+    for (double z : {low, high})
+      s.furniture.push_back({{x, y, floor + z - 0.5 * board}, {w - 2 * board, d, board}, SyntheticBlock::Role::shelf});
+    for (double sx : {-1.0, 1.0})
+      s.furniture.push_back({{x + sx * 0.5 * (w - board), y, floor + 0.5 * high}, {board, d, high},
+                             SyntheticBlock::Role::shelf});
+  }
+}
+
+// Objects standing on the floor beside a piece of furniture (or the table), in view,
+// seen over the table and furniture, clear of everything; skipped when no place is found.
+void add_floor_objects(const SyntheticSceneParams& params, SyntheticScene& s, std::mt19937_64& rng,
+                       std::vector<PixelRect>& rects) {
+  if (params.floor_objects <= 0 || params.kinds.empty()) return;
+  std::vector<Vec3> anchors_center{{0, 0, 0}}, anchors_half{{s.table_half_x_m, s.table_half_y_m, 0}};
+  for (const SyntheticBlock& b : s.furniture)
+    if (b.role == SyntheticBlock::Role::support || b.role == SyntheticBlock::Role::tall) {
+      anchors_center.push_back(b.center);
+      anchors_half.push_back(b.size_m * 0.5);
+    }
+  const double margin_px = 8, width = s.camera.width, height = s.camera.height;
+  for (int j = 0; j < params.floor_objects; ++j) {
+    SyntheticObject obj;
+    obj.kind = params.kinds[std::uniform_int_distribution<std::size_t>(0, params.kinds.size() - 1)(rng)];
+    obj.dimensions_m = random_dimensions(obj.kind, rng);
+    if (params.varied_cones && obj.kind == ShapeKind::cone) vary_cone(obj, rng);
+    obj.yaw_deg = uniform(rng, 0, 360);
+    obj.color = kPalette[static_cast<std::size_t>(uniform_int(rng, 0, static_cast<int>(kPalette.size()) - 1))];
+    obj.support = -1;
+    const double f = footprint_radius(obj);
+    for (int attempt = 0; attempt < kPlacementAttempts; ++attempt) {
+      const auto a = static_cast<std::size_t>(uniform_int(rng, 0, static_cast<int>(anchors_center.size()) - 1));
+      const Vec3 c = anchors_center[a], h = anchors_half[a];
+      const int face = uniform_int(rng, 0, 2);  // in front, left, right of it
+      const double gap = f + uniform(rng, 0.03, 0.2);
+      Vec3 p = face == 0 ? Vec3{c.x + uniform(rng, -h.x, h.x), c.y - h.y - gap, 0}
+                         : Vec3{c.x + (face == 1 ? -1 : 1) * (h.x + gap), c.y + uniform(rng, -h.y, h.y), 0};
+      p.z = -s.floor_depth_m + center_height(obj);
+      obj.center = p;
+      // Not under the table, inside furniture, past the wall or against another object.
+      if (std::abs(p.x) < s.table_half_x_m + f + 0.02 && std::abs(p.y) < s.table_half_y_m + f + 0.02) continue;
+      if (p.y + f + 0.02 > s.wall_y_m) continue;
+      bool clear = true;
+      for (const SyntheticBlock& b : s.furniture)
+        if (std::abs(p.x - b.center.x) < 0.5 * b.size_m.x + f + 0.02 &&
+            std::abs(p.y - b.center.y) < 0.5 * b.size_m.y + f + 0.02)
+          clear = false;
+      for (const SyntheticObject& other : s.objects)
+        if (std::hypot(p.x - other.center.x, p.y - other.center.y) < f + footprint_radius(other) + 0.02)
+          clear = false;
+      if (!clear) continue;
+      const Vec3 top = p + Vec3{0, 0, half_height(obj)};
+      if (table_to_camera_point(s, p).z > 3.8 || sight_blocked(s, top) || sight_blocked(s, p)) continue;
+      const PixelRect r = object_rect(s, obj);
+      if (r.u0 < margin_px || r.v0 < margin_px || r.u1 > width - 1 - margin_px || r.v1 > height - 1 - margin_px)
+        continue;
+      for (const PixelRect& other : rects)
+        if (overlap_area(r, other) > params.max_view_overlap * std::min(r.area(), other.area())) clear = false;
+      if (!clear) continue;
+      rects.push_back(r);
+      s.objects.push_back(obj);
+      break;
+    }
+  }
+}
 
 std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std::mt19937_64& rng,
                                          int& placed_count) {
@@ -286,6 +508,8 @@ std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std
                            SyntheticBlock::Role::tall});
   }
 
+  add_room_furniture(params, s, rng);
+
   auto palette = kPalette;
   std::shuffle(palette.begin(), palette.end(), rng);
 
@@ -315,6 +539,14 @@ std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std
     obj.velocity_m_per_frame = {speed * std::cos(heading), speed * std::sin(heading), 0};
     obj.spin_deg_per_frame = uniform(rng, -params.max_spin_deg_per_frame, params.max_spin_deg_per_frame);
     if (params.cut_share > 0 && !on_side) obj.cut = uniform(rng, 0, 1) < params.cut_share;
+    // Touching the object placed before it, or across a table edge (table objects only).
+    const bool after_table_object = !s.objects.empty() && s.objects.back().support == 0 &&
+                                    !s.objects.back().cut;
+    if (params.touching_share > 0 && !on_side && !obj.cut && after_table_object &&
+        uniform(rng, 0, 1) < params.touching_share)
+      obj.touching = static_cast<int>(s.objects.size()) - 1;
+    if (params.overhang_share > 0 && !on_side && !obj.cut && obj.touching < 0)
+      obj.overhang = uniform(rng, 0, 1) < params.overhang_share;
     const double f = footprint_radius(obj);
     // The support's top rectangle and height in the table frame.
     double cx = aim.x, cy = aim.y, hx = s.table_half_x_m, hy = s.table_half_y_m, top = 0;
@@ -334,13 +566,30 @@ std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std
         obj.cut = false;
         spread_x = 0.4, spread_y = 0.3;
       }
-      obj.center = {cx + uniform(rng, -spread_x, spread_x), cy + uniform(rng, -spread_y, spread_y),
-                    top + center_height(obj)};
+      // Placed as drawn, or touching / across an edge; a feature that finds no place in
+      // half the attempts is dropped (the object placed as any other).
+      if (attempt == kPlacementAttempts / 2) obj.touching = -1, obj.overhang = false;
+      bool free_placed = true;
+      if (obj.touching >= 0) {
+        free_placed = false;
+        place_touching(obj, s.objects[static_cast<std::size_t>(obj.touching)], rng);
+      } else if (obj.overhang) {
+        free_placed = false;
+        if (!place_overhanging(obj, s, rng)) continue;
+      } else {
+        obj.center = {cx + uniform(rng, -spread_x, spread_x), cy + uniform(rng, -spread_y, spread_y),
+                      top + center_height(obj)};
+      }
       const double ox = on_side ? obj.center.x - cx : obj.center.x;
       const double oy = on_side ? obj.center.y - cy : obj.center.y;
-      if (std::abs(ox) + f + 0.02 > hx || std::abs(oy) + f + 0.02 > hy) continue;
+      if (free_placed && (std::abs(ox) + f + 0.02 > hx || std::abs(oy) + f + 0.02 > hy)) continue;
+      if (obj.touching >= 0 && (std::abs(ox) + extent_along(obj, {1, 0, 0}) + 0.02 > hx ||
+                                std::abs(oy) + extent_along(obj, {0, 1, 0}) + 0.02 > hy))
+        continue;
       bool clear = true;
-      for (const SyntheticObject& other : s.objects) {
+      for (std::size_t k = 0; k < s.objects.size(); ++k) {
+        if (static_cast<int>(k) == obj.touching) continue;  // meant to touch it
+        const SyntheticObject& other = s.objects[k];
         const double gap = std::hypot(obj.center.x - other.center.x, obj.center.y - other.center.y);
         if (gap < f + footprint_radius(other) + 0.02) clear = false;
       }
@@ -371,6 +620,15 @@ std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std
     s.objects.push_back(std::move(obj));
   }
   placed_count = params.object_count;
+  add_floor_objects(params, s, rng, rects);
+  // Dark objects last, so the layout is the same with or without them.
+  if (params.dark_share > 0)
+    for (SyntheticObject& o : s.objects)
+      if (uniform(rng, 0, 1) < params.dark_share) {
+        o.albedo = uniform(rng, 0.15, 0.35);
+        const auto grey = static_cast<std::uint8_t>(60 * o.albedo + 15);
+        o.color = {grey, grey, static_cast<std::uint8_t>(grey + 5)};
+      }
 
   if (params.occluder) {
     // Crosses the line of sight to the aim point, a bit under half-way from the camera.
@@ -405,6 +663,12 @@ SyntheticSceneParams room_scene_params(std::uint64_t seed) {
   p.table_height_min_m = 0.4;
   p.table_height_max_m = 1.1;
   p.camera_roll_max_deg = 5;
+  p.chair_chance = 0.5;
+  p.shelf_chance = 0.5;
+  p.floor_objects = 2;
+  p.touching_share = 0.25;
+  p.overhang_share = 0.15;
+  p.dark_share = 0.15;
   return p;
 }
 
@@ -469,8 +733,7 @@ SyntheticFrame render_scene(const SyntheticScene& base, const SensorNoiseParams&
         if (dir.z < 0) take({(-s.floor_depth_m - o.z) / dir.z, {0, 0, 1}}, kLabelFloor);
         if (dir.y > 0) take({(s.wall_y_m - o.y) / dir.y, {0, -1, 0}}, kLabelWall);
         for (const SyntheticBlock& b : s.furniture)
-          take(hit_box(o - b.center, dir, b.size_m * 0.5),
-               b.role == SyntheticBlock::Role::leg ? kLabelLeg : kLabelFurniture);
+          take(hit_box(o - b.center, dir, b.size_m * 0.5), block_label(b.role));
         for (std::size_t i = 0; i < s.objects.size(); ++i) {
           const PixelRect& r = rects[i];
           if (u < r.u0 || u > r.u1 || v < r.v0 || v > r.v1) continue;
@@ -496,9 +759,11 @@ SyntheticFrame render_scene(const SyntheticScene& base, const SensorNoiseParams&
         if (label == kLabelOccluder) return {205, 155, 125};
         if (label == kLabelLeg) return {120, 85, 55};
         if (label == kLabelFurniture) return {150, 150, 160};
+        if (label == kLabelChair) return {95, 60, 40};
+        if (label == kLabelShelf) return {215, 205, 180};
         return {90, 90, 100};  // floor
       },
-      out.frame, out.labels);
+      out.frame, out.labels, dark_return(s));
   out.truth = ground_truth(s, &out.frame, &out.labels);
   return out;
 }
@@ -550,7 +815,7 @@ PhysicalScene ground_truth(const SyntheticScene& scene, const Frame* frame,
     prim.narrow_radius_m = o.kind == ShapeKind::cone ? o.narrow_radius_m : 0.0;
     prim.fit = 1.0;
     PhysicalObject obj;
-    obj.support_id = support_ids[static_cast<std::size_t>(std::max(0, o.support))];
+    obj.support_id = o.support < 0 ? "floor" : support_ids[static_cast<std::size_t>(o.support)];
     obj.partial = labelled ? at_edge[i] != 0 : o.cut;
     obj.id = "o";  // not "o" + ...: GCC 12 warns falsely (-Wrestrict, bug 105329)
     obj.id += std::to_string(i + 1);

@@ -68,6 +68,28 @@ struct SyntheticSceneParams {
   // The camera rolled about its optical axis by up to this many degrees either way (a
   // hand-held or head-worn camera is seldom level); drawn only when above 0.
   double camera_roll_max_deg = 0;
+  // What a room has besides (room_scene_params; each draws from the stream only when
+  // on, so world_scene_params' scenes stay what they were):
+  // the chance of a chair at the table's far side (seat, back, four legs), its seat
+  // partly under the table when the table is high enough; furniture, not a prop, and
+  // holds no object.
+  double chair_chance = 0;
+  // The chance of a two-level shelf (two boards on two side panels) against the wall
+  // behind the table; furniture, not a prop.
+  double shelf_chance = 0;
+  // Objects standing on the floor beside the furniture (support "floor"), in view and
+  // not hidden by the table or the furniture; fewer when no place is found.
+  int floor_objects = 0;
+  // Share of the table's objects (after the first) placed touching the one before:
+  // face to face along a box's axis, or rim to rim. Two objects in the truth.
+  double touching_share = 0;
+  // Share of the table's objects placed across a table edge (front or side), part of
+  // the footprint beyond it and the centre still over the table. One object.
+  double overhang_share = 0;
+  // Share of all objects that are dark (albedo 0.15-0.35): the Kinect loses their
+  // depth where the infrared return, albedo * cos(incidence) / z^2, is weak (grazing
+  // flanks, far away): missing pixels, not noise.
+  double dark_share = 0;
   // A box (an arm, say) crossing the view between camera and table, for tracking tests.
   bool occluder = false;
   double occluder_speed_m_per_frame = 0.012;
@@ -82,8 +104,11 @@ struct SyntheticObject {
   // Cone only: radius of the narrow end (0: pointed) and whether the wide end is up.
   double narrow_radius_m = 0;
   bool apex_down = false;
-  int support = 0;       // 0 the table, k > 0 furniture[k - 1]'s top
+  int support = 0;       // 0 the table, k > 0 furniture[k - 1]'s top, -1 the floor
   bool cut = false;      // placed across the image border
+  int touching = -1;     // index of the object it was placed touching, -1 none
+  bool overhang = false; // placed across a table edge
+  double albedo = 1;     // below 1: dark, its depth drops out where the return is weak
   Vec3 center;
   double yaw_deg = 0;  // about +Z; only a box shows it
   std::array<std::uint8_t, 3> color{200, 60, 60};
@@ -99,11 +124,12 @@ struct SyntheticOccluder {
 };
 
 // An axis-aligned furniture block in the table frame: a table leg, a second support,
-// a wardrobe. A support's top holds objects.
+// a wardrobe, a chair's seat, back or leg, a shelf's board or panel. A support's top
+// holds objects.
 struct SyntheticBlock {
   Vec3 center;
   Vec3 size_m;
-  enum class Role { leg, support, tall } role = Role::leg;
+  enum class Role { leg, support, tall, chair, shelf } role = Role::leg;
 };
 
 struct SyntheticScene {
@@ -128,7 +154,10 @@ struct SyntheticScene {
 SyntheticSceneParams world_scene_params(std::uint64_t seed);
 
 // world_scene_params widened by what it was not tuned on (held out): table heights 0.4
-// to 1.1 m and a camera rolled up to 5 degrees either way.
+// to 1.1 m, a camera rolled up to 5 degrees either way, a chair and a two-level shelf
+// in half the rooms each, up to two objects on the floor beside the furniture, a
+// quarter of the table's objects touching another, a sixth across a table edge, a
+// sixth of all objects dark.
 SyntheticSceneParams room_scene_params(std::uint64_t seed);
 
 // The Kinect sensor model applied while rendering.
@@ -154,6 +183,8 @@ inline constexpr int kLabelWall = -4;
 inline constexpr int kLabelOccluder = -5;
 inline constexpr int kLabelLeg = -6;        // table legs
 inline constexpr int kLabelFurniture = -7;  // second supports and tall furniture
+inline constexpr int kLabelChair = -8;      // a chair's seat, back and legs
+inline constexpr int kLabelShelf = -9;      // a shelf's boards and side panels
 
 struct SyntheticFrame {
   Frame frame;              // organized, camera frame, NaN where the sensor saw nothing
