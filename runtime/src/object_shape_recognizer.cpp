@@ -246,6 +246,9 @@ double quantile(std::vector<double> v, double q) {
   return v[k];
 }
 
+// The LM stops once a step is this small (see refine_lm).
+constexpr double kLmConvergedStep = 1e-7;
+
 // Levenberg-Marquardt on a few parameters with Huber weights. `residual(params, i, g)`
 // gives point i's signed residual and, when `g` is not null, its gradient in `g`.
 template <int N, typename F>
@@ -286,6 +289,17 @@ void refine_lm(std::array<double, N>& x, int count, const std::vector<double>& s
       const Gradient delta = a.ldlt().solve(-jtr);
       std::array<double, N> next = x;
       for (int j = 0; j < N; ++j) next[j] += delta[j];
+      // Converged: an undamped step below kLmConvergedStep of every parameter's scale
+      // (metres or radians: a tenth of a micrometre against the tenths of millimetres the
+      // shapes are reported in) moves nothing a caller sees, and the iterations left
+      // would repeat it. (A large lambda shortens steps that have not converged.)
+      bool negligible = attempt == 0 && lambda < 0.1;
+      for (int j = 0; j < N && negligible; ++j)
+        negligible = std::abs(delta[j]) <= kLmConvergedStep * std::max(1.0, std::abs(x[j]));
+      if (negligible) {
+        x = next;
+        return;
+      }
       // The first try is usually taken: its normal equations come with its cost.
       const bool with_normal = attempt == 0 && !last;
       const double c = evaluate(next, with_normal ? &next_jtj : nullptr, &next_jtr);
@@ -306,25 +320,6 @@ void refine_lm(std::array<double, N>& x, int count, const std::vector<double>& s
     }
     if (!improved) break;
   }
-}
-
-// refine_lm with the gradient by forward differences of `residual(params, i)`.
-template <int N, typename F>
-void refine(std::array<double, N>& x, int count, const std::vector<double>& scale, F residual,
-            int iterations = 8) {
-  refine_lm<N>(x, count, scale,
-               [&](const std::array<double, N>& p, int i, Eigen::Matrix<double, N, 1>* g) {
-                 const double r = residual(p, i);
-                 if (g)
-                   for (int j = 0; j < N; ++j) {
-                     std::array<double, N> xp = p;
-                     const double step = 1e-6 * std::max(1.0, std::abs(p[j]));
-                     xp[j] += step;
-                     (*g)[j] = (residual(xp, i) - r) / step;
-                   }
-                 return r;
-               },
-               iterations);
 }
 
 // refine_lm with the residual's own analytic gradient.
@@ -458,15 +453,11 @@ double outline_round_over_rectangle(const Samples& s, const Candidate& box,
   };
   refine_analytic<3>(c, n, tol, circle_residual);
   std::array<double, 5> q{box.ca, box.cb, box.theta, box.ex, box.ey};
-  auto rectangle_residual = [&](const std::array<double, 5>& p, int i) {
-    const double cs = std::cos(p[2]), sn = std::sin(p[2]);
-    const double da = rim[i][0] - p[0], db = rim[i][1] - p[1];
-    const double ox = std::abs(cs * da + sn * db) - std::abs(p[3]);
-    const double oy = std::abs(-sn * da + cs * db) - std::abs(p[4]);
-    if (ox <= 0 && oy <= 0) return std::max(ox, oy);
-    return len2(std::max(ox, 0.0), std::max(oy, 0.0));
+  auto rectangle_residual = [&](const std::array<double, 5>& p, int i,
+                                shape_residuals::Gradient<5>* g = nullptr) {
+    return shape_residuals::rectangle(p, rim[i][0], rim[i][1], g);
   };
-  refine<5>(q, n, tol, rectangle_residual);
+  refine_analytic<5>(q, n, tol, rectangle_residual);
   double e_circle = 0, e_rectangle = 0;
   for (int i = 0; i < n; ++i) {
     const double cap = 9 * tol[i] * tol[i];
@@ -758,16 +749,22 @@ double refine_box_theta(const Samples& s, const std::vector<int>& sides, double 
   return theta_normals + gain * std::remainder(theta - theta_normals, kPi / 2);
 }
 
-// Upright box: orientation of the minimum-area rectangle around the footprint, then
-// robust extents along its sides (the top face spans the footprint when seen from above).
-Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params, bool face_lines) {
-  Candidate c;
-  c.model = Model::box;
-  if (s.p.size() < 12) return c;
+// The azimuth of an upright box by its side normals, or by the footprint's minimum-area
+// rectangle without them; fit_box's extents follow from it. Shared by the box of the
+// normals and the box of the faces' lines (refine_box_theta), which differ only there.
+struct BoxAzimuth {
+  bool ok = false;
+  double theta = 0;
+  std::vector<int> sides;  // the side points (normals across the plane), empty without
+};
+
+BoxAzimuth box_azimuth(const Samples& s) {
+  BoxAzimuth out;
+  if (s.p.size() < 12) return out;
   std::vector<std::array<double, 2>> q;
   for (const Local& p : s.p) q.push_back({p.a, p.b});
   const auto hull = hull_2d(q);
-  if (hull.size() < 3) return c;
+  if (hull.size() < 3) return out;
   double best_area = 1e18, best_theta = 0;
   for (size_t i = 0; i < hull.size(); ++i) {
     const auto& p1 = hull[i];
@@ -803,10 +800,22 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params, bool fa
       sides.push_back(static_cast<int>(i));
     }
     if (sides.size() >= 30 && len2(c4, s4) > 0.3 * sides.size())
-      best_theta = face_lines ? refine_box_theta(s, sides, std::atan2(s4, c4) / 4) : std::atan2(s4, c4) / 4;
+      best_theta = std::atan2(s4, c4) / 4;
     else
       sides.clear();
   }
+  out.ok = true;
+  out.theta = best_theta;
+  out.sides = std::move(sides);
+  return out;
+}
+
+// Upright box at azimuth `best_theta`: robust extents along its sides (the top face
+// spans the footprint when seen from above); `sides` are the side points or empty.
+Candidate box_at(const Samples& s, const ShapeRecognizerParams& params, double best_theta,
+                 const std::vector<int>& sides) {
+  Candidate c;
+  c.model = Model::box;
   const double cs = std::cos(best_theta), sn = std::sin(best_theta);
   std::vector<double> xs, ys, sx, sy;
   for (const Local& p : s.p) {
@@ -898,6 +907,17 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params, bool fa
   }
   c.valid = c.ey >= params.min_radius_m / 2 && c.ex <= params.max_radius_m * 2 && c.h1 > 0.005;
   return c;
+}
+
+// Upright box: orientation of the minimum-area rectangle around the footprint, then
+// robust extents along its sides (the top face spans the footprint when seen from above).
+Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params, const BoxAzimuth& azimuth) {
+  if (!azimuth.ok) {
+    Candidate c;
+    c.model = Model::box;
+    return c;
+  }
+  return box_at(s, params, azimuth.theta, azimuth.sides);
 }
 
 // Cylinder lying on its side: its axis runs along the footprint's long side, and the
@@ -1166,8 +1186,13 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   // the points better than the box of the normals alone: faces assigned by noisy normals
   // can pull the lines off (a box cut by the border, far away).
   const Candidate box = [&] {
-    Candidate by_normals = fit_box(s, params, false), by_lines = fit_box(s, params, true);
-    if (!by_lines.valid || std::abs(by_lines.theta - by_normals.theta) < 1e-9) return by_normals;
+    const BoxAzimuth azimuth = box_azimuth(s);
+    Candidate by_normals = fit_box(s, params, azimuth);
+    if (azimuth.sides.empty()) return by_normals;
+    const double theta_lines = refine_box_theta(s, azimuth.sides, azimuth.theta);
+    if (std::abs(theta_lines - azimuth.theta) < 1e-9) return by_normals;
+    Candidate by_lines = box_at(s, params, theta_lines, azimuth.sides);
+    if (!by_lines.valid) return by_normals;
     if (!by_normals.valid) return by_lines;
     evaluate(by_normals, s);
     evaluate(by_lines, s);
@@ -1192,9 +1217,9 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     int n = 0;
     for (size_t i = 0; i < s.p.size(); ++i) {
       if (std::abs(s.up[i]) > 0.4) continue;
-      const double phi = std::atan2(s.nb[i], s.na[i]);
-      c4 += std::cos(4 * phi);
-      s4 += std::sin(4 * phi);
+      const auto [cos4, sin4] = shape_residuals::fourfold(s.na[i], s.nb[i]);
+      c4 += cos4;
+      s4 += sin4;
       ++n;
     }
     if (n >= 30) flatness = len2(c4, s4) / n;

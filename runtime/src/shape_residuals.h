@@ -104,4 +104,27 @@ inline std::array<double, 2> fourfold(double x, double y) {
   return {c2 * c2 - s2 * s2, 2 * s2 * c2};
 }
 
+// Rectangle p = (centre a, centre b, azimuth, half side x, half side y) seen from above
+// (a box's outline): the signed distance of (qa, qb) from its boundary, negative inside.
+// Piecewise smooth (kinks in |.| and max); the gradient is each piece's, the side a
+// forward difference takes at a kink (sign_of; the larger offset inside).
+inline double rectangle(const std::array<double, 5>& p, double qa, double qb, Gradient<5>* g) {
+  const double cs = std::cos(p[2]), sn = std::sin(p[2]);
+  const double da = qa - p[0], db = qb - p[1];
+  const double u = cs * da + sn * db, v = -sn * da + cs * db;
+  const double ox = std::abs(u) - std::abs(p[3]), oy = std::abs(v) - std::abs(p[4]);
+  // d ox and d oy in the parameters: u, v turn with the azimuth (du = v, dv = -u).
+  const double su = sign_of(u), sv = sign_of(v);
+  const Gradient<5> dox{-su * cs, -su * sn, su * v, -sign_of(p[3]), 0.0};
+  const Gradient<5> doy{sv * sn, -sv * cs, -sv * u, 0.0, -sign_of(p[4])};
+  if (ox <= 0 && oy <= 0) {
+    if (g) *g = ox < oy ? doy : dox;
+    return std::max(ox, oy);
+  }
+  const double mx = std::max(ox, 0.0), my = std::max(oy, 0.0);
+  const double d = std::sqrt(mx * mx + my * my);
+  if (g) *g = (mx * dox + my * doy) / d;
+  return d;
+}
+
 }  // namespace annex::shape_residuals

@@ -105,6 +105,21 @@ TEST(ShapeResiduals, LyingCircleGradientMatchesCentralDifference) {
       [&](const std::array<double, 2>& p, Gradient<2>* g) { return lying_circle(p, w, h, g); });
 }
 
+// The box outline's rectangle, at points inside, outside across a side and beyond a
+// corner (random centres, azimuths and sides, points away from the kinks: the diagonals
+// inside, the side lines' extensions outside, where no single gradient exists).
+TEST(ShapeResiduals, RectangleGradientMatchesCentralDifference) {
+  for (const auto& q : {std::array<double, 2>{0.011, -0.004}, std::array<double, 2>{0.09, 0.013},
+                        std::array<double, 2>{-0.11, 0.083}}) {
+    expect_gradient_matches<5>(
+        [](std::mt19937_64& rng) {
+          return std::array<double, 5>{0.005 * unit(rng), 0.005 * unit(rng), 0.3 * unit(rng),
+                                       0.05 + 0.004 * unit(rng), 0.03 + 0.004 * unit(rng)};
+        },
+        [&](const std::array<double, 5>& p, Gradient<5>* g) { return rectangle(p, q[0], q[1], g); });
+  }
+}
+
 // The values are the geometric distances they stand for.
 TEST(ShapeResiduals, ValuesAreTheShapesDistances) {
   // A point 3 cm outside a 5 cm circle.
@@ -121,6 +136,12 @@ TEST(ShapeResiduals, ValuesAreTheShapesDistances) {
   EXPECT_NEAR(torus({0, 0, 0.05, 0.01}, 0.06, 0.0, 0.01, nullptr), 0.0, 1e-12);
   // Lying cylinder of radius 3 cm: its top at 6 cm.
   EXPECT_NEAR(lying_circle({0.0, 0.03}, 0.0, 0.065, nullptr), 0.005, 1e-12);
+  // Rectangle 10 x 6 cm turned 90 degrees: its x side along b. A point 1 cm inside its
+  // long side, one 2 cm out across its short side, one 3-4-5 beyond a corner.
+  const double quarter = std::acos(0.0);
+  EXPECT_NEAR(rectangle({0, 0, quarter, 0.05, 0.03}, 0.02, 0.0, nullptr), -0.01, 1e-12);
+  EXPECT_NEAR(rectangle({0, 0, quarter, 0.05, 0.03}, 0.0, 0.07, nullptr), 0.02, 1e-12);
+  EXPECT_NEAR(rectangle({0, 0, quarter, 0.05, 0.03}, 0.07, 0.08, nullptr), 0.05, 1e-12);
 }
 
 // The 4x-angle moments without trig against cos and sin of 4 atan2, any length, every quadrant.
