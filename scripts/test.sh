@@ -13,11 +13,11 @@ case "${ANNEX_SANITIZE:-0}" in
   thread)
     # ThreadSanitizer on the code that runs threads: the session (trackers on a pool,
     # background scans on its worker), run's PNG writer beside the next frame, the
-    # renderer, the OSC stream.
+    # renderer, the OSC stream, the scan's own worker threads (ScanThreads).
     build=build/tsan
     flags+=(-DANNEX_SANITIZE=thread -DCMAKE_BUILD_TYPE=RelWithDebInfo -DANNEX_BUILD_EDITOR=OFF
             -DANNEX_BUILD_BENCH=OFF)
-    tests=(-R "${ANNEX_TSAN_TESTS:-AnnexSession|SessionBackground|RunCommand|SessionExclude|RunStream|OscStream|OscListener|Renderer|Png|Fault}")
+    tests=(-R "${ANNEX_TSAN_TESTS:-AnnexSession|SessionBackground|RunCommand|SessionExclude|RunStream|OscStream|OscListener|Renderer|Png|Fault|ScanThreads}")
     # For the test discovery at build time, the tests, and the annex-runtime they run.
     export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/tests/tsan.supp}"
     ;;

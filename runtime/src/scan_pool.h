@@ -47,12 +47,15 @@ class ScanPool {
 
   // body(order[k]) for k in 0..n-1 (body(k) without `order`), items taken in that order
   // by whichever thread is free; returns when all are done.
+  // Only the thread that created the pool calls it (the helpers see no pool); a pass
+  // started from inside a pass's item runs on the calling thread.
   template <typename F>
   void run(size_t n, F&& body, const std::vector<size_t>* order = nullptr) {
-    if (helpers_.empty() || n <= 1) {
+    if (helpers_.empty() || n <= 1 || running_) {
       for (size_t k = 0; k < n; ++k) body(order ? (*order)[k] : k);
       return;
     }
+    running_ = true;
     using Body = std::remove_reference_t<F>;
     struct Ctx {
       Body* body;
@@ -84,6 +87,7 @@ class ScanPool {
       pause();
     for (int d = done_.load(std::memory_order_acquire); d < entered; d = done_.load(std::memory_order_acquire))
       done_.wait(d, std::memory_order_acquire);
+    running_ = false;
   }
 
   // Splits 0..n-1 into contiguous bands of at least `min_band` items, at most one per
@@ -163,6 +167,7 @@ class ScanPool {
   std::atomic<int> done_{0};
   std::atomic<size_t> next_{0};
   Job job_;
+  bool running_ = false;  // a pass is on; read and written by the calling thread only
   bool stop_ = false;
 };
 
