@@ -322,10 +322,11 @@ Hull2 convex_hull(const std::vector<Vec3>& in, Vec3 n) {
 // spread over every height, face sideways and take no part. Unlike a RANSAC triple, this
 // finds a table seen at a grazing angle from just above its height, where dropout leaves
 // a thin, holed strip and three-point normals scatter. Least squares on the band's
-// points then refines the winner when the refit stays parallel to the first support
-// (on the up-facing points alone, a table 2 m away finds its plane 0.1 to 0.3 degrees
-// off: the tuned set's objects 2.5 m away sat on a support 3 cm off more often). `heights`: each point's height above the first support; `peak_points` (and
-// `inliers`): the up-facing points in the winning band, `peak_height` its height.
+// points then refines the winner when the refit stays parallel to the first support (a
+// refit on the up-facing points alone put fewer of the tuned set's objects 1.5 to 2.5 m
+// away on a support at the right height: 90.3 against 94.2 %). `heights`: each point's
+// height above the first support; `peak_points` (and `inliers`): the up-facing points in
+// the winning band, `peak_height` its height.
 PlaneSearch find_parallel_plane(const ScanParams& params, const PlaneFit& first,
                                 const std::vector<Vec3>& pts, const std::vector<double>& heights,
                                 const std::vector<char>& use, double max_tilt_deg,

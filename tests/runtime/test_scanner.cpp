@@ -871,7 +871,7 @@ TEST(ScannerWorld, LegsSeenFromJustAboveTheTableAreNoProps) {
   // above a table 2.4 to 3.3 m away sees its legs from the floor up to the band's top,
   // three to five grid pixels wide, while the table top is found in part or not at all.
   // The legs rose through the band's top by fewer joins than a wider surface needs, and
-  // nothing above them was a support's region: seven legs reported as cylinders and
+  // nothing above them was a support's region: five legs reported as cylinders and
   // boxes of 0.55 to 0.59 m. A member standing on the floor narrower than
   // min_stand_ratio of its height cannot stand free: none is a prop now.
   for (std::uint64_t seed : {5005u, 5035u, 5114u}) {
