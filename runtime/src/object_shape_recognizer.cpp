@@ -1137,6 +1137,43 @@ int saturated_choice(const std::vector<SelectionEntry>& entries, double n, doubl
   return pick;
 }
 
+// A round top with nothing seen below its rim where an upright cylinder's side would
+// face the camera: a body narrowing under its rim (a bowl, a pot or a lampshade widening
+// up, seen from above), whose side faces down, hidden by the rim. The cylinder predicts
+// its near side's pixels in a band below the rim (clear of the rim's noise and of the
+// table): the side's projected area, about 2 r x band x cos(elevation), over a pixel's
+// footprint (range / f)^2, times the share of the points sampled. A frustum widening up
+// hides its side from the eye (D from the axis, E above the plane) when its foot is no
+// wider than r - (D - r) h / (E - h); that widest foot is its narrow end. Nothing when
+// the side would be a few pixels, when it shows, or when no frustum on a stable foot
+// could hide it (then something nearer hides it, not the rim).
+std::optional<Candidate> frustum_under_rim(const Samples& s, const Candidate& cyl, double sampled,
+                                           const ShapeRecognizerParams& params) {
+  if (cyl.model != Model::cylinder || !cyl.valid || s.tol.empty()) return std::nullopt;
+  const double r = cyl.r1, h = cyl.h1 - cyl.h0;
+  const double d = len2(s.eye.a - cyl.ca, s.eye.b - cyl.cb), e = s.eye.h - cyl.h0;
+  if (h <= 0 || e <= h || d <= r) return std::nullopt;
+  const double foot = r - (d - r) * h / (e - h);
+  if (foot < params.min_foot_share * r) return std::nullopt;
+  const double tol = quantile(s.tol, 0.5);
+  const double lo = cyl.h0 + 0.15 * h, hi = cyl.h1 - std::max(2 * tol, 0.25 * h);
+  if (hi <= lo) return std::nullopt;
+  const double range = len2(d, e - 0.5 * (lo + hi));
+  const double fx = CameraIntrinsics{}.fx;
+  const double expected = sampled * 2 * r * (hi - lo) * (d / range) * (fx / range) * (fx / range);
+  if (expected < 30) return std::nullopt;  // a few pixels: nothing to tell
+  int seen = 0;
+  for (const Local& p : s.p) seen += p.h > lo && p.h < hi;
+  if (seen > params.max_side_seen_share * expected) return std::nullopt;
+  Candidate c = cyl;
+  c.model = Model::cone;
+  c.r0 = foot;
+  c.r1 = r;
+  c.as_cylinder = false;
+  c.floor_h = -1;
+  return c;
+}
+
 // Subsample deterministically: a seeded shuffle keeps the spatial spread.
 std::vector<int> pick_indices(size_t n, int max_points, std::mt19937_64& rng) {
   std::vector<int> idx(n);
@@ -1339,6 +1376,20 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
           cands[static_cast<size_t>(box_index)].valid = true;
           choose(best, best_score);
         }
+      }
+    }
+  }
+  // An upright cylinder whose side does not show where it would face the camera
+  // narrows under its rim (frustum_under_rim): the frustum that hides it, when it
+  // explains the points as well.
+  if (best >= 0 && cands[best].model == Model::cylinder) {
+    const double sampled = static_cast<double>(s.p.size()) / static_cast<double>(points.size());
+    if (std::optional<Candidate> bowl = frustum_under_rim(s, cands[best], sampled, params)) {
+      evaluate(*bowl, s);
+      if (bowl->coverage >= cands[best].coverage - params.complexity_margin) {
+        out.candidates.push_back(to_fit(*bowl, frame));
+        cands.push_back(*bowl);
+        best = static_cast<int>(cands.size()) - 1;
       }
     }
   }

@@ -16,6 +16,7 @@
 #include "annex/runtime/pcd_io.h"
 #include "annex/runtime/scan_overlay.h"
 #include "annex/runtime/synthetic_scene.h"
+#include "label_owner.h"
 
 namespace annex {
 namespace {
@@ -513,16 +514,6 @@ SyntheticFrame world(std::uint64_t seed) {
   const Result<SyntheticScene> scene = generate_scene(world_scene_params(seed));
   EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().format());
   return render_scene(*scene);
-}
-
-// The truth object most of a scanned object's pixels show, or a background label.
-int majority_label(const SyntheticFrame& f, const ScanCluster& c) {
-  std::map<int, int> votes;
-  for (int i : c.pixels) ++votes[f.labels[static_cast<size_t>(i)]];
-  int best = kLabelNothing, n = -1;
-  for (const auto& [l, v] : votes)
-    if (v > n) best = l, n = v;
-  return best;
 }
 
 TEST(ScannerWorld, TableObjectsFoundOnTheirSupportsAndNoLegsOrSlivers) {

@@ -13,6 +13,7 @@
 
 #include "annex/runtime/scanner.h"
 #include "annex/runtime/synthetic_scene.h"
+#include "label_owner.h"
 
 namespace annex {
 namespace {
@@ -231,16 +232,6 @@ TEST(SyntheticRooms, FeatureSharesOutOfRangeAreErrors) {
 }
 
 // --- the scanner on a fixed set per feature ---
-
-// The truth object most of a scanned object's pixels show, or a background label.
-int majority_label(const SyntheticFrame& f, const ScanCluster& c) {
-  std::map<int, int> votes;
-  for (int i : c.pixels) ++votes[f.labels[static_cast<size_t>(i)]];
-  int best = kLabelNothing, n = -1;
-  for (const auto& [l, v] : votes)
-    if (v > n) best = l, n = v;
-  return best;
-}
 
 struct FeatureFigures {
   int objects = 0, found = 0, correct = 0, pieces_extra = 0, on_floor_support = 0;

@@ -44,6 +44,12 @@ struct ShapeRecognizerParams {
   // outline's directions on the fitted circle (a square's outline puts about 0.3 there,
   // a circle all but the arc the table cuts off).
   double min_round_outline = 0.6;
+  // An upright cylinder whose side should face the camera but shows below its rim less
+  // than this share of the pixels it predicts there is a body narrowing under its rim (a
+  // bowl widening up seen from above), when a frustum with a foot of at least
+  // min_foot_share of its rim would hide its side from the camera.
+  double max_side_seen_share = 0.1;
+  double min_foot_share = 0.3;
   // At most this many points enter the fits (a deterministic subsample).
   int max_fit_points = 800;
   std::uint64_t seed = 1;
