@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <optional>
 #include <random>
@@ -408,27 +409,32 @@ Circle robust_circle(const std::vector<std::array<double, 2>>& q, const std::vec
 
 // Upright cylinder: circle of the side points' footprint; height from the plane (or
 // `base`) to where the side stops fitting or the cap lies.
-// The footprint's outline seen from above (per 5-degree direction from the points'
-// middle, the farthest point) fitted by a circle and by the box's rectangle (both refined
-// on it, Huber weights, tolerance the points' own or two pixels: where depth ends, a
-// silhouette is off by about a pixel). Returns the rectangle's residual energy over the
-// circle's (each residual capped at three tolerances): well above 1 for a round top or
-// rim (a can, a bowl, a lampshade seen from above), at most about 1 for a box. `circle`
-// gets the circle. 0 when the outline is not seen round most directions.
-double outline_round_over_rectangle(const Samples& s, const Candidate& box,
-                                    const ShapeRecognizerParams& params, Circle& circle) {
+// How much better a circle explains an outline than a rectangle does: both refined on
+// the outline (per 5-degree direction from the points' middle, the farthest point;
+// Huber weights; tolerance the points' own or two pixels: where depth ends, a silhouette
+// is off by about a pixel). Returns the rectangle's residual energy over the circle's
+// (each residual capped at three tolerances): well above 1 for a round outline, at most
+// about 1 for a rectangle's. `circle` gets the circle. 0 when the outline is not seen
+// round most directions. `rect` starts the rectangle (a, b, azimuth, half sides); a
+// negative half side asks for the outline's own minimum-area rectangle.
+constexpr double kRoundOverRectangle = 2;  // the circle must leave half the rectangle's energy
+double outline_round_over_rectangle(const std::vector<std::array<double, 2>>& pts,
+                                    const std::vector<double>& pt_tol, const std::vector<double>& depth,
+                                    std::array<double, 5> rect, const ShapeRecognizerParams& params,
+                                    Circle& circle) {
   constexpr int kBins = 72;
+  if (pts.empty()) return 0;
   double ma = 0, mb = 0;
-  for (const Local& p : s.p) {
-    ma += p.a;
-    mb += p.b;
+  for (const auto& p : pts) {
+    ma += p[0];
+    mb += p[1];
   }
-  ma /= static_cast<double>(s.p.size());
-  mb /= static_cast<double>(s.p.size());
+  ma /= static_cast<double>(pts.size());
+  mb /= static_cast<double>(pts.size());
   std::vector<int> far(kBins, -1);
   std::vector<double> far_r(kBins, 0);
-  for (size_t i = 0; i < s.p.size(); ++i) {
-    const double da = s.p[i].a - ma, db = s.p[i].b - mb, r = len2(da, db);
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const double da = pts[i][0] - ma, db = pts[i][1] - mb, r = len2(da, db);
     const int b = std::clamp(static_cast<int>((std::atan2(db, da) + kPi) / (2 * kPi) * kBins), 0, kBins - 1);
     if (r > far_r[b]) {
       far_r[b] = r;
@@ -439,8 +445,8 @@ double outline_round_over_rectangle(const Samples& s, const Candidate& box,
   std::vector<double> tol;
   for (int b = 0; b < kBins; ++b)
     if (far[b] >= 0) {
-      rim.push_back({s.p[far[b]].a, s.p[far[b]].b});
-      tol.push_back(std::max(s.tol[far[b]], 2 * std::abs(s.xyz[far[b]].z) / 525.0));
+      rim.push_back(pts[far[b]]);
+      tol.push_back(std::max(pt_tol[far[b]], 2 * std::abs(depth[far[b]]) / 525.0));
     }
   if (rim.size() < 0.75 * kBins) return 0;
   const Circle start = kasa_circle(rim);
@@ -452,21 +458,68 @@ double outline_round_over_rectangle(const Samples& s, const Candidate& box,
     return shape_residuals::circle(p, rim[i][0], rim[i][1], g);
   };
   refine_analytic<3>(c, n, tol, circle_residual);
-  std::array<double, 5> q{box.ca, box.cb, box.theta, box.ex, box.ey};
+  if (rect[3] < 0) {
+    // The smallest-area rectangle over the outline's azimuths, 3 degrees apart.
+    double best_area = std::numeric_limits<double>::max();
+    for (int k = 0; k < 30; ++k) {
+      const double th = k * kPi / 60, cs = std::cos(th), sn = std::sin(th);
+      double u0 = 1e9, u1 = -1e9, v0 = 1e9, v1 = -1e9;
+      for (const auto& q : rim) {
+        const double u = cs * q[0] + sn * q[1], v = -sn * q[0] + cs * q[1];
+        u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
+      }
+      if ((u1 - u0) * (v1 - v0) < best_area) {
+        best_area = (u1 - u0) * (v1 - v0);
+        const double uc = (u0 + u1) / 2, vc = (v0 + v1) / 2;
+        rect = {cs * uc - sn * vc, sn * uc + cs * vc, th, (u1 - u0) / 2, (v1 - v0) / 2};
+      }
+    }
+  }
   auto rectangle_residual = [&](const std::array<double, 5>& p, int i,
                                 shape_residuals::Gradient<5>* g = nullptr) {
     return shape_residuals::rectangle(p, rim[i][0], rim[i][1], g);
   };
-  refine_analytic<5>(q, n, tol, rectangle_residual);
+  refine_analytic<5>(rect, n, tol, rectangle_residual);
   double e_circle = 0, e_rectangle = 0;
   for (int i = 0; i < n; ++i) {
     const double cap = 9 * tol[i] * tol[i];
     e_circle += std::min(cap, std::pow(circle_residual(c, i), 2));
-    e_rectangle += std::min(cap, std::pow(rectangle_residual(q, i), 2));
+    e_rectangle += std::min(cap, std::pow(rectangle_residual(rect, i), 2));
   }
   circle = {c[0], c[1], std::abs(c[2]), true};
   if (circle.r < params.min_radius_m || circle.r > params.max_radius_m) return 0;
   return e_rectangle / std::max(e_circle, 1e-12);
+}
+
+// The footprint's outline seen from above against the box's rectangle: well above 1
+// for a round top or rim (a can, a bowl, a lampshade seen from above).
+double footprint_round_over_rectangle(const Samples& s, const Candidate& box,
+                                      const ShapeRecognizerParams& params, Circle& circle) {
+  std::vector<std::array<double, 2>> ab(s.p.size());
+  std::vector<double> z(s.p.size());
+  for (size_t i = 0; i < s.p.size(); ++i) {
+    ab[i] = {s.p[i].a, s.p[i].b};
+    z[i] = s.xyz[i].z;
+  }
+  return outline_round_over_rectangle(ab, s.tol, z, {box.ca, box.cb, box.theta, box.ex, box.ey},
+                                      params, circle);
+}
+
+// A disc on its rim (lid to the camera) against a box's face: the outline seen along
+// the disc's axis must be round, not a rectangle. Far away the tolerance grows until
+// most of a rectangle's outline lies within it of a circle (nyu_basement's stacked bins,
+// 3.5 m away); the energies still tell them apart.
+double disc_round_over_rectangle(const Samples& s, Vec3 axis, const ShapeRecognizerParams& params) {
+  const Vec3 seed = std::abs(axis.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  const Vec3 e1 = normalized(cross(axis, seed)), e2 = cross(axis, e1);
+  std::vector<std::array<double, 2>> q(s.xyz.size());
+  std::vector<double> z(s.xyz.size());
+  for (size_t i = 0; i < s.xyz.size(); ++i) {
+    q[i] = {dot(s.xyz[i], e1), dot(s.xyz[i], e2)};
+    z[i] = s.xyz[i].z;
+  }
+  Circle unused;
+  return outline_round_over_rectangle(q, s.tol, z, {0, 0, 0, -1, -1}, params, unused);
 }
 
 Candidate fit_cylinder(const Samples& s, const std::vector<int>& subset, double base,
@@ -1353,9 +1406,9 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     int top_seen = 0;
     for (size_t i = 0; i < s.p.size(); ++i) top_seen += s.up[i] > 0.9 && s.p[i].h > s.top - std::max(0.02, 0.15 * s.top);
     Circle rim;
-    const double roundness = top_seen >= 30 ? outline_round_over_rectangle(s, cands[best], params, rim) : 0;
+    const double roundness = top_seen >= 30 ? footprint_round_over_rectangle(s, cands[best], params, rim) : 0;
     if (top_seen >= 30 && top_seen >= 0.3 * s.p.size() &&
-        roundness >= 2) {
+        roundness >= kRoundOverRectangle) {
       Candidate round_top;
       round_top.model = Model::cylinder;
       round_top.ca = rim.x;
@@ -1432,6 +1485,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
       const bool on_rim = std::abs(dot(disc.cylinder.fit.primitive.axis, frame.n)) < std::cos(kPi / 4);
       const double rival = best >= 0 && cands[best].coverage >= params.min_coverage ? cands[best].coverage : 0.0;
       if (on_rim && disc.round_outline >= params.min_round_outline &&
+          disc_round_over_rectangle(s, disc.cylinder.fit.primitive.axis, params) >= kRoundOverRectangle &&
           disc.cylinder.fit.coverage >= params.min_coverage &&
           disc.cylinder.fit.coverage >= rival - params.complexity_margin && as_close(disc.cylinder.fit))
         any_axis = disc.cylinder.fit;
