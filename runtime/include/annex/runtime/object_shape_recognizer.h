@@ -46,6 +46,12 @@ struct ShapeRecognizerParams {
   double min_round_outline = 0.6;
   // At most this many points enter the fits (a deterministic subsample).
   int max_fit_points = 800;
+  // The box is turned by its faces' lines (besides its side normals' mean azimuth) only
+  // when two standard errors of that mean turn the footprint's corners by more than
+  // this: 1 mm is below the depth noise (sigma_z >= 1.2 mm), so within it no turn of
+  // the box can change its score or extents beyond the noise; near objects seen over
+  // hundreds of side points stay within it, far or small pieces do not.
+  double box_azimuth_doubt_m = 0.001;
   std::uint64_t seed = 1;
 };
 
