@@ -329,6 +329,31 @@ void refine_analytic(std::array<double, N>& x, int count, const std::vector<doub
   refine_lm<N>(x, count, scale, residual, iterations);
 }
 
+// refine_analytic first on every k-th point (at most `sample`, even over the points'
+// order), then two iterations on all points from there: the iterations from the start,
+// far from the minimum, run on the sample; the last ones, which set the result, on all
+// points. Objects with at most twice `sample` points get 8 iterations on all of them.
+template <int N, typename F>
+void refine_sampled(std::array<double, N>& x, int count, const std::vector<double>& scale, F residual,
+                    int sample) {
+  if (sample > 0 && count > 2 * sample) {
+    const int step = (count + sample - 1) / sample;
+    std::vector<int> pick;
+    std::vector<double> pick_scale;
+    for (int i = 0; i < count; i += step) {
+      pick.push_back(i);
+      pick_scale.push_back(scale[static_cast<size_t>(i)]);
+    }
+    refine_analytic<N>(x, static_cast<int>(pick.size()), pick_scale,
+                       [&](const std::array<double, N>& p, int j, Eigen::Matrix<double, N, 1>* g) {
+                         return residual(p, pick[static_cast<size_t>(j)], g);
+                       });
+    refine_analytic<N>(x, count, scale, residual, 2);
+    return;
+  }
+  refine_analytic<N>(x, count, scale, residual);
+}
+
 struct Circle {
   double x = 0, y = 0, r = 0;
   bool ok = false;
@@ -559,11 +584,12 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
   double k = std::abs(den) > 1e-12 ? (n * srh - sh * sr) / den : 0.0;
   double r0 = (sr - k * sh) / n;
   std::array<double, 4> x{cyl.ca, cyl.cb, r0, r0 + k};
-  refine_analytic<4>(x, static_cast<int>(idx.size()), tol,
-                     [&](const std::array<double, 4>& p, int j, shape_residuals::Gradient<4>* g) {
-                       const Local& q = s.p[idx[j]];
-                       return shape_residuals::cone(p, q.a, q.b, (q.h - span_ref.h0) / span, span, g);
-                     });
+  refine_sampled<4>(x, static_cast<int>(idx.size()), tol,
+                    [&](const std::array<double, 4>& p, int j, shape_residuals::Gradient<4>* g) {
+                      const Local& q = s.p[idx[j]];
+                      return shape_residuals::cone(p, q.a, q.b, (q.h - span_ref.h0) / span, span, g);
+                    },
+                    params.refine_sample_points);
   c.ca = x[0];
   c.cb = x[1];
   c.r0 = std::max(0.0, x[2]);
