@@ -330,6 +330,31 @@ void refine_analytic(std::array<double, N>& x, int count, const std::vector<doub
   refine_lm<N>(x, count, scale, residual, iterations);
 }
 
+// refine_analytic first on every k-th point (at most `sample`, even over the points'
+// order), then two iterations on all points from there: the iterations from the start,
+// far from the minimum, run on the sample; the last ones, which set the result, on all
+// points. Objects with at most twice `sample` points get 8 iterations on all of them.
+template <int N, typename F>
+void refine_sampled(std::array<double, N>& x, int count, const std::vector<double>& scale, F residual,
+                    int sample) {
+  if (sample > 0 && count > 2 * sample) {
+    const int step = (count + sample - 1) / sample;
+    std::vector<int> pick;
+    std::vector<double> pick_scale;
+    for (int i = 0; i < count; i += step) {
+      pick.push_back(i);
+      pick_scale.push_back(scale[static_cast<size_t>(i)]);
+    }
+    refine_analytic<N>(x, static_cast<int>(pick.size()), pick_scale,
+                       [&](const std::array<double, N>& p, int j, Eigen::Matrix<double, N, 1>* g) {
+                         return residual(p, pick[static_cast<size_t>(j)], g);
+                       });
+    refine_analytic<N>(x, count, scale, residual, 2);
+    return;
+  }
+  refine_analytic<N>(x, count, scale, residual);
+}
+
 struct Circle {
   double x = 0, y = 0, r = 0;
   bool ok = false;
@@ -612,11 +637,12 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
   double k = std::abs(den) > 1e-12 ? (n * srh - sh * sr) / den : 0.0;
   double r0 = (sr - k * sh) / n;
   std::array<double, 4> x{cyl.ca, cyl.cb, r0, r0 + k};
-  refine_analytic<4>(x, static_cast<int>(idx.size()), tol,
-                     [&](const std::array<double, 4>& p, int j, shape_residuals::Gradient<4>* g) {
-                       const Local& q = s.p[idx[j]];
-                       return shape_residuals::cone(p, q.a, q.b, (q.h - span_ref.h0) / span, span, g);
-                     });
+  refine_sampled<4>(x, static_cast<int>(idx.size()), tol,
+                    [&](const std::array<double, 4>& p, int j, shape_residuals::Gradient<4>* g) {
+                      const Local& q = s.p[idx[j]];
+                      return shape_residuals::cone(p, q.a, q.b, (q.h - span_ref.h0) / span, span, g);
+                    },
+                    params.refine_sample_points);
   c.ca = x[0];
   c.cb = x[1];
   c.r0 = std::max(0.0, x[2]);
@@ -808,7 +834,9 @@ double refine_box_theta(const Samples& s, const std::vector<int>& sides, double 
 struct BoxAzimuth {
   bool ok = false;
   double theta = 0;
-  std::vector<int> sides;  // the side points (normals across the plane), empty without
+  std::vector<int> sides;       // the side points (normals across the plane), empty without
+  double theta_variance = 0;    // of the normals' estimate (rad^2), 0 without sides
+  double half_diagonal = 0;     // of the footprint's minimum-area rectangle
 };
 
 BoxAzimuth box_azimuth(const Samples& s) {
@@ -837,6 +865,7 @@ BoxAzimuth box_azimuth(const Samples& s) {
     if ((x1 - x0) * (y1 - y0) < best_area) {
       best_area = (x1 - x0) * (y1 - y0);
       best_theta = std::atan2(ey, ex);
+      out.half_diagonal = len2(x1 - x0, y1 - y0) / 2;
     }
   }
   // With normals, the side faces give the orientation (normal azimuths modulo 90
@@ -852,10 +881,15 @@ BoxAzimuth box_azimuth(const Samples& s) {
       s4 += sin4;
       sides.push_back(static_cast<int>(i));
     }
-    if (sides.size() >= 30 && len2(c4, s4) > 0.3 * sides.size())
+    const double n = static_cast<double>(sides.size()), resultant = len2(c4, s4) / std::max(n, 1.0);
+    if (sides.size() >= 30 && resultant > 0.3) {
       best_theta = std::atan2(s4, c4) / 4;
-    else
+      // The mean direction's variance from the resultant length R of the 4x angles
+      // (wrapped normal: a sample's variance -2 ln R), over n, over 16 for the 1x angle.
+      out.theta_variance = -2 * std::log(resultant) / n / 16;
+    } else {
       sides.clear();
+    }
   }
   out.ok = true;
   out.theta = best_theta;
@@ -1275,10 +1309,14 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   // The box turned by its faces' lines (refine_box_theta) stands only when it explains
   // the points better than the box of the normals alone: faces assigned by noisy normals
   // can pull the lines off (a box cut by the border, far away).
+  // The lines are fitted only when the normals' azimuth is in doubt: when two of its
+  // standard errors turn the footprint's corners by more than box_azimuth_doubt_m.
   const Candidate box = [&] {
     const BoxAzimuth azimuth = box_azimuth(s);
     Candidate by_normals = fit_box(s, params, azimuth);
-    if (azimuth.sides.empty()) return by_normals;
+    if (azimuth.sides.empty() ||
+        2 * std::sqrt(azimuth.theta_variance) * azimuth.half_diagonal <= params.box_azimuth_doubt_m)
+      return by_normals;
     const double theta_lines = refine_box_theta(s, azimuth.sides, azimuth.theta);
     if (std::abs(theta_lines - azimuth.theta) < 1e-9) return by_normals;
     Candidate by_lines = box_at(s, params, theta_lines, azimuth.sides);

@@ -85,6 +85,8 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.range("shape.min_secondary_share", p.shape.min_secondary_share, 0, 1);
   c.non_negative("shape.side_shape_penalty", p.shape.side_shape_penalty);
   c.at_least("shape.max_fit_points", p.shape.max_fit_points, 10);
+  c.non_negative("shape.box_azimuth_doubt_m", p.shape.box_azimuth_doubt_m);
+  c.at_least("shape.refine_sample_points", p.shape.refine_sample_points, 0);
   c.positive("planes.min_side_m", p.planes.min_side_m);
   c.non_negative("planes.clearance_m", p.planes.clearance_m);
   c.positive("planes.cell_m", p.planes.cell_m);

@@ -87,6 +87,8 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"shape_min_secondary_share", Kind::unit_share, &p.shape.min_secondary_share},
       {"shape_side_shape_penalty", Kind::unit_share, &p.shape.side_shape_penalty},
       {"shape_max_fit_points", Kind::whole, nullptr, &p.shape.max_fit_points, 50},
+      {"shape_box_azimuth_doubt_m", Kind::non_negative, &p.shape.box_azimuth_doubt_m},
+      {"shape_refine_sample_points", Kind::whole, nullptr, &p.shape.refine_sample_points, 0},
       {"shape_max_round_facetedness", Kind::unit_share, &p.shape.max_round_facetedness},
       {"shape_min_round_outline", Kind::unit_share, &p.shape.min_round_outline},
       {"segment_enabled", Kind::flag, nullptr, nullptr, 0, &p.segment.enabled},
