@@ -20,7 +20,6 @@
 #include <algorithm>
 #include <map>
 #include <array>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -28,7 +27,6 @@
 #include <limits>
 #include <numeric>
 #include <random>
-#include <thread>
 
 #include "annex/runtime/params_validation.h"
 
@@ -94,6 +92,8 @@ size_t in_bands(size_t n, size_t min_band, F&& body) {
   return 1;
 }
 
+double cos_degrees(double deg) { return std::cos(deg * 3.14159265358979 / 180.0); }
+
 struct PlaneFit {
   Vec3 n;
   double d = 0;
@@ -148,7 +148,7 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
   const double* px = probe[0].data();
   const double* py = probe[1].data();
   const double* pz = probe[2].data();
-  const double cos_max = std::cos(max_angle_deg * 3.14159265358979 / 180.0);
+  const double cos_max = cos_degrees(max_angle_deg);
   // The hypotheses are drawn first (the generator's draws do not depend on the counts),
   // then counted in bands of hypotheses on the scan's threads, then the first with the
   // most inliers wins, as when each was counted as it was drawn.
@@ -357,7 +357,7 @@ PlaneSearch find_parallel_plane(const ScanParams& params, const PlaneFit& first,
   peak_height = lo + peak * band;
   PlaneFit plane{first.n, first.d - (lo + peak * band), true};
   if (plane.d <= 0) return best;
-  const double cos_max = std::cos(max_tilt_deg * 3.14159265358979 / 180.0);
+  const double cos_max = cos_degrees(max_tilt_deg);
   for (int round = 0; round < 2; ++round) {
     std::vector<Vec3> in;
     in.reserve(static_cast<size_t>(peak_count) / 3 + 1);
@@ -806,29 +806,17 @@ std::vector<size_t> largest_first(const std::vector<size_t>& cost) {
   return order;
 }
 
-// Runs body(0..n-1) on up to `threads` threads: the scan's pool when there is one, else
-// threads started for this call. Items are handed out in `order` when given (see
-// largest_first), else in index order; the caller keeps results per item.
+// Runs body(k) for every item k < n on the scan's worker threads (scan_pool, set for
+// the whole of scan_frame), or on the calling thread without them. Items are handed out
+// in `order` when given (see largest_first), else in index order; the caller keeps
+// results per item.
 template <typename F>
-void parallel_for(size_t n, int threads, F body, const std::vector<size_t>* order = nullptr) {
-  auto item = [&](size_t k) { return order ? (*order)[k] : k; };
-  const size_t workers = std::min<size_t>(n, static_cast<size_t>(std::max(1, threads)));
-  if (workers <= 1) {
-    for (size_t i = 0; i < n; ++i) body(i);
-    return;
-  }
-  if (scan_pool && scan_pool->threads() >= static_cast<int>(workers)) {
+void parallel_for(size_t n, F body, const std::vector<size_t>* order = nullptr) {
+  if (scan_pool) {
     scan_pool->run(n, body, order);
     return;
   }
-  std::atomic<size_t> next{0};
-  auto work = [&] {
-    for (size_t i = next++; i < n; i = next++) body(item(i));
-  };
-  std::vector<std::thread> pool;
-  for (size_t w = 1; w < workers; ++w) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
+  for (size_t k = 0; k < n; ++k) body(order ? (*order)[k] : k);
 }
 
 // Two objects on a support cannot interpenetrate: a cluster lying mostly inside a
@@ -872,7 +860,7 @@ void merge_parts(const Frame& f, const ScanParams& params, ScanResult& result,
   for (size_t c = 0; c < n; ++c)
     if (grown[c]) refit_sizes[c] = result.clusters[c].pixels.size();
   const std::vector<size_t> refit_order = largest_first(refit_sizes);
-  parallel_for(n, params.threads, [&](size_t c) {
+  parallel_for(n, [&](size_t c) {
     if (!grown[c]) return;
     ScanCluster& sc = result.clusters[c];
     smooth_cluster(f, sc.pixels, label, static_cast<int>(c), params, sc.points, normals[c]);
@@ -936,6 +924,21 @@ struct Found {
   int points = 0;
 };
 
+namespace {
+
+// Whether `sample` lies on `plane`: its median height above it within `gap` (supports
+// lie at least min_support_gap_m apart). False for an empty sample.
+bool on_plane(const PlaneFit& plane, const std::vector<Vec3>& sample, double gap) {
+  if (sample.empty()) return false;
+  std::vector<double> hs;
+  hs.reserve(sample.size());
+  for (const Vec3& p : sample) hs.push_back(dot(plane.n, p) + plane.d);
+  std::nth_element(hs.begin(), hs.begin() + hs.size() / 2, hs.end());
+  return std::abs(hs[hs.size() / 2]) < gap;
+}
+
+}  // namespace
+
 // Every support: planes extracted one after another, each one's inliers leaving the
 // search. A plane counts when its kept regions hold min_plane_points. Kept out of line
 // so the plane stage shows on its own in a profile.
@@ -944,7 +947,7 @@ struct Found {
                                                    const std::vector<GridCell>& strided_cells,
                                                    Vec3 up, std::mt19937_64& rng) {
   const int stride = std::max(1, params.pixel_stride);
-  const double cos_tilt = std::cos(params.max_support_tilt_deg * 3.14159265358979 / 180.0);
+  const double cos_tilt = cos_degrees(params.max_support_tilt_deg);
   std::vector<Found> found;
   std::vector<char> free(f.points.size(), 0);
   for (int i : strided) free[i] = 1;
@@ -1011,15 +1014,11 @@ struct Found {
       // The band an earlier support's own (its noisy far edge left outside its band;
       // supports lie min_support_gap_m apart, below): these points leave the
       // candidates, and the next band is tried.
+      std::vector<Vec3> sample;
+      for (size_t m = 0; m < at_peak.size(); m += 7) sample.push_back(pool_pts[at_peak[m]]);
       bool echo = false;
-      for (const auto& [other, other_regions] : planes) {
-        std::vector<double> hs;
-        for (size_t m = 0; m < at_peak.size(); m += 7)
-          hs.push_back(dot(other.n, pool_pts[at_peak[m]]) + other.d);
-        if (hs.empty()) continue;
-        std::nth_element(hs.begin(), hs.begin() + hs.size() / 2, hs.end());
-        echo = echo || std::abs(hs[hs.size() / 2]) < params.min_support_gap_m;
-      }
+      for (const auto& [other, other_regions] : planes)
+        echo = echo || on_plane(other, sample, params.min_support_gap_m);
       if (echo) {
         for (size_t k : at_peak) pool_up[k] = 0;
         continue;
@@ -1068,17 +1067,12 @@ struct Found {
     if (!planes.empty() && ps.plane.d < params.min_support_gap_m) continue;
     // ... and lie clearly above or below every earlier one where they are seen: a
     // plane through the far floor's noise is not a second support.
+    std::vector<Vec3> sample;
+    for (const PlaneRegions& r : regions)
+      for (size_t m = 0; m < r.members.size(); m += 7) sample.push_back(to_vec(f.points[r.members[m]]));
     bool apart = true;
-    for (const auto& [other, other_regions] : planes) {
-      std::vector<double> hs;
-      for (const PlaneRegions& r : regions)
-        for (size_t m = 0; m < r.members.size(); m += 7)
-          hs.push_back(dot(other.n, to_vec(f.points[r.members[m]])) + other.d);
-      if (!hs.empty()) {
-        std::nth_element(hs.begin(), hs.begin() + hs.size() / 2, hs.end());
-        if (std::abs(hs[hs.size() / 2]) < params.min_support_gap_m) apart = false;
-      }
-    }
+    for (const auto& [other, other_regions] : planes)
+      apart = apart && !on_plane(other, sample, params.min_support_gap_m);
     if (!apart) continue;
     // A later plane is a support only where it is seen from above (seen_from_above): a
     // height band across a wall behind the table holds up-facing points where the depth
@@ -1222,7 +1216,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
     return Error{text, where};
   }
   std::vector<Found> found = find_supports(f, params, strided, strided_cells, up, rng);
-  const double cos_tilt = std::cos(params.max_support_tilt_deg * 3.14159265358979 / 180.0);
+  const double cos_tilt = cos_degrees(params.max_support_tilt_deg);
   if (found.empty())
     return Error{"no horizontal plane found (support must be within " +
                      std::to_string(static_cast<int>(params.max_plane_angle_deg)) +
@@ -1550,7 +1544,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   std::vector<size_t> grid_sizes(accepted.size());
   for (size_t a = 0; a < accepted.size(); ++a) grid_sizes[a] = accepted[a].grid->size();
   const std::vector<size_t> split_order = largest_first(grid_sizes);
-  parallel_for(accepted.size(), params.threads, [&](size_t a) {
+  parallel_for(accepted.size(), [&](size_t a) {
     const std::vector<int>& grid = *accepted[a].grid;
     double z_far = 0;
     for (int i : grid) z_far = std::max(z_far, static_cast<double>(f.points[i].z));
@@ -1581,7 +1575,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   std::vector<size_t> cluster_sizes(clusters.size());
   for (size_t c = 0; c < clusters.size(); ++c) cluster_sizes[c] = clusters[c].pixels.size();
   const std::vector<size_t> mls_order = largest_first(cluster_sizes);
-  parallel_for(clusters.size(), params.threads, [&](size_t c) {
+  parallel_for(clusters.size(), [&](size_t c) {
     ScanCluster& sc = result.clusters[c];
     sc.pixels = clusters[c].pixels;
     sc.support = result.supports[static_cast<size_t>(clusters[c].support)].surface.plane;
@@ -1594,7 +1588,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   std::vector<size_t> fit_sizes(clusters.size());
   for (size_t c = 0; c < clusters.size(); ++c) fit_sizes[c] = result.clusters[c].points.size();
   const std::vector<size_t> fit_order = largest_first(fit_sizes);
-  parallel_for(clusters.size(), params.threads, [&](size_t c) {
+  parallel_for(clusters.size(), [&](size_t c) {
     ScanCluster& sc = result.clusters[c];
     sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
   }, &fit_order);
