@@ -8,10 +8,12 @@
 //   world     the widened generator: class, size, support and cone direction per
 //             distance band, a confusion matrix per shape, false props and slivers.
 // Usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N]
-//        [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] [--verbose] [--png-dir DIR]
+//        [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] [--pool-per-scan]
+//        [--verbose] [--png-dir DIR]
 //        (--repeat: our scans per frame, 30; --pcl-repeat: PCL's, interleaved with ours,
 //        default max(5, repeat / 3); --threads: our worker threads, 2; --speed-only: the
-//        speed section alone, e.g. under callgrind; --verbose: every world-set miss,
+//        speed section alone, e.g. under callgrind; --pool-per-scan: every scan starts its
+//        own worker threads (scan_frame without ScanWorkers, as before session 8); --verbose: every world-set miss,
 //        misclassification, leg and sliver; --png-dir: the world scenes' pictures, frames;
 //        --world-seed: the world set's first seed, 2001: the tuned set; 5001: held out;
 //        --rooms: room_scene_params, table heights 0.4-1.1 m, a rolled camera, chairs,
@@ -34,6 +36,7 @@
 #include "annex/runtime/object_shape_recognizer.h"
 #include "annex/runtime/pcd_io.h"
 #include "annex/runtime/scan_overlay.h"
+#include "annex/runtime/scan_workers.h"
 #include "annex/runtime/scanner.h"
 #include "annex/runtime/synthetic_scene.h"
 
@@ -120,15 +123,21 @@ struct Timings {
 
 // Both pipelines in one run, interleaved: each PCL run follows an equal share of ours,
 // so a change of load hits both alike. Medians and minimums of each, and their ratios.
-void speed(const Frame& frame, const char* label, int repeat, int pcl_repeat, int threads) {
-  std::printf("speed on %s (%dx%d), load average %s:\n", label, frame.width, frame.height,
-              load_average().c_str());
+// `pool_per_scan`: each scan starts and joins its own helper threads (scan_frame without
+// ScanWorkers) instead of keeping one set across the run, as a session does.
+void speed(const Frame& frame, const char* label, int repeat, int pcl_repeat, int threads,
+           bool pool_per_scan) {
+  std::printf("speed on %s (%dx%d), load average %s, worker threads %s:\n", label, frame.width,
+              frame.height, load_average().c_str(), pool_per_scan ? "started per scan" : "kept across scans");
   ScanParams params = objects_only();
   params.threads = threads;
   Timings ours, theirs;
   ours.name = "annex";
   theirs.name = "pcl-paper";
-  auto annex = [&](const Frame& f) { return scan_frame(f, params); };
+  ScanWorkers workers;
+  auto annex = [&](const Frame& f) {
+    return pool_per_scan ? scan_frame(f, params) : scan_frame(f, params, workers);
+  };
   auto pcl = [](const Frame& f) { return scan_frame_pcl_reference(f); };
   ours.run(frame, annex);  // warm-up: first-touch allocations, caches
   ours = Timings{};
@@ -584,6 +593,7 @@ void real_clusters(const Frame& frame) {
 int main(int argc, char** argv) {
   int repeat = 30, scenes = 100, world = 60, world_seed = 2001, pcl_repeat = -1, threads = ScanParams{}.threads;
   bool pcl = true, world_only = false, speed_only = false, verbose = false, room = false;
+  bool pool_per_scan = false;
   std::string png_dir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -595,12 +605,13 @@ int main(int argc, char** argv) {
     else if (a == "--pcl-repeat" && i + 1 < argc) pcl_repeat = std::max(1, std::atoi(argv[++i]));
     else if (a == "--threads" && i + 1 < argc) threads = std::max(1, std::atoi(argv[++i]));
     else if (a == "--speed-only") speed_only = true;
+    else if (a == "--pool-per-scan") pool_per_scan = true;
     else if (a == "--skip-pcl") pcl = false;
     else if (a == "--world-only") world_only = true;
     else if (a == "--verbose") verbose = true;
     else if (a == "--png-dir" && i + 1 < argc) png_dir = argv[++i];
     else {
-      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N] [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] [--verbose] [--png-dir DIR]\n");
+      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N] [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] [--pool-per-scan] [--verbose] [--png-dir DIR]\n");
       return 2;
     }
   }
@@ -618,10 +629,10 @@ int main(int argc, char** argv) {
   if (pcl_repeat < 0) pcl_repeat = std::max(5, repeat / 3);
   if (!pcl) pcl_repeat = 0;
   if (real_frame)
-    speed(*real_frame, "milk_cartoon_all_small_clorox.pcd", repeat, pcl_repeat, threads);
+    speed(*real_frame, "milk_cartoon_all_small_clorox.pcd", repeat, pcl_repeat, threads, pool_per_scan);
   else std::printf("speed: ../shared/data/real absent, real frame skipped\n");
   if (speed_only) return 0;
-  speed(synthetic(7).frame, "generated scene seed 7", repeat, pcl_repeat, threads);
+  speed(synthetic(7).frame, "generated scene seed 7", repeat, pcl_repeat, threads, pool_per_scan);
   if (world > 0) world_set(world, world_seed, room, verbose, png_dir);
   accuracy_and_ransac(scenes, std::min(scenes, 30));
   if (real_frame) real_clusters(*real_frame);

@@ -11,6 +11,7 @@
 #include "annex/runtime/pcd_io.h"
 #include "annex/runtime/plane_candidates.h"
 #include "annex/runtime/scan_overlay.h"
+#include "annex/runtime/scan_workers.h"
 #include "annex/runtime/scanner.h"
 #include "commands.h"
 #include "depth_options.h"
@@ -93,7 +94,8 @@ int run_scan(const std::vector<std::string>& args) {
     std::cerr << frame.error().format() << "\n";
     return kExitBadInput;
   }
-  Result<ScanResult> scan = scan_frame(*frame, params);
+  ScanWorkers workers;  // kept for --repeat's scans
+  Result<ScanResult> scan = scan_frame(*frame, params, workers);
   if (!scan) {
     Error e = scan.error();
     e.location.origin = parsed->positional[0];
@@ -147,7 +149,7 @@ int run_scan(const std::vector<std::string>& args) {
     std::vector<double> totals;
     for (long i = 0; i < repeat; ++i) {
       const auto t0 = std::chrono::steady_clock::now();
-      const Result<ScanResult> again = scan_frame(*frame, params);
+      const Result<ScanResult> again = scan_frame(*frame, params, workers);
       totals.push_back(
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       if (!again) continue;

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "annex/runtime/params_validation.h"
+#include "annex/runtime/scan_workers.h"
 #include "session_workers.h"
 
 #include "annex/runtime/rigid_motion.h"
@@ -193,6 +194,7 @@ std::string format_pose_line(int frame_index, const HapticSpec& spec, const Anne
 struct AnnexSession::Workers {
   WorkerPool trackers;
   std::unique_ptr<ScanWorker> scanner;  // ScanMode::background only
+  ScanWorkers scan_threads;              // the scans on the pushing thread (scan_frame's pool)
   explicit Workers(const SessionParams& p)
       : trackers(p.threads),
         scanner(p.scan_mode == ScanMode::background
@@ -466,7 +468,7 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
   }
   if (scan_now) {
     const auto t0 = Clock::now();
-    Result<ScanResult> scan = scan_frame(frame, params_.scan);
+    Result<ScanResult> scan = scan_frame(frame, params_.scan, workers_->scan_threads);
     report.times.scan_ms = ms_since(t0);
     report.scanned = true;
     report.scan_frame_index = frame_index;

@@ -8,6 +8,7 @@
 //           (Moving Least Squares of order 1): smoothed point and normal;
 //  shapes   ObjectShapeRecognizer per cluster.
 #include "annex/runtime/scanner.h"
+#include "annex/runtime/scan_workers.h"
 #include "annex/runtime/plane_candidates.h"
 
 #include "annex/runtime/object_segmenter.h"
@@ -1255,6 +1256,11 @@ void order_and_name_objects(ScanResult& result) {
 }
 
 Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
+  ScanWorkers workers;  // started for this scan only
+  return scan_frame(input, params, workers);
+}
+
+Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, ScanWorkers& workers) {
   // Parameters set in code are checked like a config file's (params_validation.h).
   if (Status s = validate_scan_params(params); !s) return s.error();
   if (input.width <= 0 || input.height <= 0 ||
@@ -1268,8 +1274,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   ScanResult result;
   std::mt19937_64 rng(params.shape.seed);
   const Vec3 up = effective_up(params);
-  // The worker threads, started once for the whole scan (scan_pool.h).
-  ScanPool pool(params.threads);
+  // The worker threads, started once for the whole scan or kept from the caller's last
+  // one (scan_pool.h, scan_workers.h).
+  ScanPool& pool = workers.pool(params.threads);
   struct UsePool {
     ScanPool* before;
     explicit UsePool(ScanPool* p) : before(scan_pool) { scan_pool = p; }

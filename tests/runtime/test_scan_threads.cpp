@@ -10,6 +10,7 @@
 
 #include "annex/formats/scene_format.h"
 #include "annex/runtime/pcd_io.h"
+#include "annex/runtime/scan_workers.h"
 #include "annex/runtime/synthetic_scene.h"
 
 namespace annex {
@@ -22,6 +23,38 @@ bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
+// Whether scan `r` (on `threads` threads) is `base` (on one) bit for bit.
+bool expect_same(const Result<ScanResult>& r, const Result<ScanResult>& base, const std::string& what,
+                 int threads) {
+  EXPECT_TRUE(r.ok()) << what << ": " << r.error().format();
+  if (!r.ok()) return false;
+  // Every field exactly (doubles compared with ==), and the text as a reader sees it.
+  EXPECT_TRUE(r->scene == base->scene) << what << ", threads " << threads;
+  EXPECT_EQ(write_scene(r->scene), write_scene(base->scene)) << what << ", threads " << threads;
+  EXPECT_EQ(r->clusters.size(), base->clusters.size()) << what << ", threads " << threads;
+  if (r->clusters.size() != base->clusters.size()) return false;
+  for (size_t c = 0; c < r->clusters.size(); ++c) {
+    const ScanCluster& a = r->clusters[c];
+    const ScanCluster& b = base->clusters[c];
+    EXPECT_EQ(a.pixels, b.pixels) << what << ", threads " << threads << ", object " << c;
+    EXPECT_TRUE(same_bits(a.points, b.points)) << what << ", threads " << threads << ", object " << c;
+    EXPECT_EQ(a.on_object, b.on_object) << what << ", threads " << threads << ", object " << c;
+    EXPECT_EQ(a.shape.primitives.size(), b.shape.primitives.size()) << what << ", object " << c;
+    if (a.shape.primitives.size() != b.shape.primitives.size()) continue;
+    for (size_t k = 0; k < a.shape.primitives.size(); ++k)
+      EXPECT_TRUE(a.shape.primitives[k].primitive == b.shape.primitives[k].primitive)
+          << what << ", threads " << threads << ", object " << c << ", primitive " << k;
+  }
+  EXPECT_EQ(r->supports.size(), base->supports.size()) << what << ", threads " << threads;
+  if (r->supports.size() != base->supports.size()) return false;
+  for (size_t k = 0; k < r->supports.size(); ++k) {
+    EXPECT_TRUE(r->supports[k].surface.plane == base->supports[k].surface.plane) << what << ", support " << k;
+    EXPECT_EQ(r->supports[k].surface.point_count, base->supports[k].surface.point_count) << what;
+    EXPECT_TRUE(same_bits(r->supports[k].hull, base->supports[k].hull)) << what << ", support " << k;
+  }
+  return true;
+}
+
 // Returns the objects of the one-thread scan (0 when it failed).
 size_t expect_same_scan(const Frame& frame, const std::string& what) {
   ScanParams one;
@@ -32,33 +65,7 @@ size_t expect_same_scan(const Frame& frame, const std::string& what) {
   for (int threads : {2, 3}) {
     ScanParams p = one;
     p.threads = threads;
-    const Result<ScanResult> r = scan_frame(frame, p);
-    EXPECT_TRUE(r.ok()) << what << ": " << r.error().format();
-    if (!r.ok()) return 0;
-    // Every field exactly (doubles compared with ==), and the text as a reader sees it.
-    EXPECT_TRUE(r->scene == base->scene) << what << ", threads " << threads;
-    EXPECT_EQ(write_scene(r->scene), write_scene(base->scene)) << what << ", threads " << threads;
-    EXPECT_EQ(r->clusters.size(), base->clusters.size()) << what << ", threads " << threads;
-    if (r->clusters.size() != base->clusters.size()) return 0;
-    for (size_t c = 0; c < r->clusters.size(); ++c) {
-      const ScanCluster& a = r->clusters[c];
-      const ScanCluster& b = base->clusters[c];
-      EXPECT_EQ(a.pixels, b.pixels) << what << ", threads " << threads << ", object " << c;
-      EXPECT_TRUE(same_bits(a.points, b.points)) << what << ", threads " << threads << ", object " << c;
-      EXPECT_EQ(a.on_object, b.on_object) << what << ", threads " << threads << ", object " << c;
-      EXPECT_EQ(a.shape.primitives.size(), b.shape.primitives.size()) << what << ", object " << c;
-      if (a.shape.primitives.size() != b.shape.primitives.size()) continue;
-      for (size_t k = 0; k < a.shape.primitives.size(); ++k)
-        EXPECT_TRUE(a.shape.primitives[k].primitive == b.shape.primitives[k].primitive)
-            << what << ", threads " << threads << ", object " << c << ", primitive " << k;
-    }
-    EXPECT_EQ(r->supports.size(), base->supports.size()) << what << ", threads " << threads;
-    if (r->supports.size() != base->supports.size()) return 0;
-    for (size_t k = 0; k < r->supports.size(); ++k) {
-      EXPECT_TRUE(r->supports[k].surface.plane == base->supports[k].surface.plane) << what << ", support " << k;
-      EXPECT_EQ(r->supports[k].surface.point_count, base->supports[k].surface.point_count) << what;
-      EXPECT_TRUE(same_bits(r->supports[k].hull, base->supports[k].hull)) << what << ", support " << k;
-    }
+    if (!expect_same(scan_frame(frame, p), base, what, threads)) return 0;
   }
   return base->scene.objects.size();
 }
@@ -76,6 +83,49 @@ TEST(ScanThreads, RealFramesScanTheSameOnOneTwoAndThreeThreads) {
   }
   EXPECT_GE(scanned, 7);
   EXPECT_GE(objects, 30u);  // something to compare: the frames hold dozens of objects
+}
+
+// Worker threads kept across scans (scan_workers.h), as a session and the benchmark keep
+// them: frame after frame on the same helpers, restarted when the thread count changes,
+// each scan is the one-thread scan bit for bit.
+TEST(ScanThreads, WorkersKeptAcrossScansScanTheSame) {
+  std::vector<std::pair<Frame, std::string>> frames;
+  for (std::uint64_t seed : {2001u, 2042u}) {
+    const Result<SyntheticScene> scene = generate_scene(world_scene_params(seed));
+    ASSERT_TRUE(scene.ok()) << scene.error().format();
+    frames.emplace_back(render_scene(*scene).frame, "world seed " + std::to_string(seed));
+  }
+  if (std::filesystem::exists(kReal / "milk_cartoon_all_small_clorox.pcd")) {
+    Result<Frame> f = read_pcd(kReal / "milk_cartoon_all_small_clorox.pcd");
+    ASSERT_TRUE(f.ok()) << f.error().format();
+    frames.emplace_back(std::move(*f), "milk_cartoon_all_small_clorox.pcd");
+  }
+  ScanParams one;
+  one.threads = 1;
+  std::vector<Result<ScanResult>> base;
+  for (const auto& [frame, what] : frames) base.push_back(scan_frame(frame, one));
+  ScanWorkers workers;
+  EXPECT_EQ(workers.threads(), 0);
+  int scans = 0;
+  for (int threads : {2, 2, 3, 2}) {
+    ScanParams p = one;
+    p.threads = threads;
+    for (size_t k = 0; k < frames.size(); ++k) {
+      ASSERT_TRUE(base[k].ok()) << frames[k].second << ": " << base[k].error().format();
+      EXPECT_TRUE(expect_same(scan_frame(frames[k].first, p, workers), base[k], frames[k].second, threads));
+      EXPECT_EQ(workers.threads(), threads);
+      ++scans;
+    }
+  }
+  // A scan that fails after the plane stage (no support within reach) leaves the workers
+  // fit for the next scan.
+  ScanParams near = one;
+  near.threads = 2;
+  near.support_reach_m = 0.05;
+  EXPECT_FALSE(scan_frame(frames[0].first, near, workers).ok());
+  near.support_reach_m = one.support_reach_m;
+  EXPECT_TRUE(expect_same(scan_frame(frames[0].first, near, workers), base[0], frames[0].second, 2));
+  EXPECT_GE(scans, 8);
 }
 
 TEST(ScanThreads, GeneratedWorldScenesScanTheSameOnOneTwoAndThreeThreads) {
