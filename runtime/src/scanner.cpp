@@ -93,23 +93,6 @@ size_t in_bands(size_t n, size_t min_band, F&& body) {
   return 1;
 }
 
-// Band b's items of a pass, kept apart while the bands run and joined in band order
-// (the order of one pass over all items): band 0 writes straight into `out`.
-template <typename T>
-struct BandParts {
-  std::vector<T>& out;
-  std::vector<std::vector<T>> rest;
-  explicit BandParts(std::vector<T>& o) : out(o), rest(scan_pool ? scan_pool->threads() - 1 : 0) {}
-  std::vector<T>& operator[](size_t b) { return b == 0 ? out : rest[b - 1]; }
-  void join(size_t bands) {
-    for (size_t b = 1; b < bands; ++b) out.insert(out.end(), rest[b - 1].begin(), rest[b - 1].end());
-  }
-};
-
-// Passes over the plane stage's pool (one to twenty multiply-adds a point, up to 77k
-// points): below this many points a band is not worth a second thread.
-constexpr size_t kMinPoolBand = 8192;
-
 double cos_degrees(double deg) { return std::cos(deg * 3.14159265358979 / 180.0); }
 
 struct PlaneFit {
@@ -139,19 +122,6 @@ struct PlaneSearch {
   PlaneFit plane;
   int inliers = 0;  // strided
 };
-
-// The points pts[0], pts[3], pts[6], ... within `band` of `plane`, appended to `in` in
-// that order (the bands' parts joined in band order).
-void every_third_inlier(const std::vector<Vec3>& pts, const PlaneFit& plane, double band,
-                        std::vector<Vec3>& in) {
-  BandParts<Vec3> parts(in);
-  const size_t bands = in_bands(pts.size(), 3 * kMinPoolBand, [&](size_t b, size_t lo, size_t hi) {
-    std::vector<Vec3>& out = parts[b];
-    for (size_t k = (lo + 2) / 3 * 3; k < hi; k += 3)
-      if (std::abs(dot(plane.n, pts[k]) + plane.d) < band) out.push_back(pts[k]);
-  });
-  parts.join(bands);
-}
 
 // Seeded RANSAC over the strided pixels still in the pool (`free` marks them), then
 // least squares on the winner's inliers. `pts` holds the pool pixels' points: the passes
@@ -241,7 +211,10 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
     // Every third strided pixel is plenty for a least-squares plane.
     std::vector<Vec3> in;
     in.reserve(strided.size() / 3 + 1);
-    every_third_inlier(pts, plane, band, in);
+    for (size_t k = 0; k < strided.size(); k += 3) {
+      const Vec3 p = pts[k];
+      if (std::abs(dot(plane.n, p) + plane.d) < band) in.push_back(p);
+    }
     PlaneFit refit = fit_plane(in);
     if (!refit.ok) break;
     if (dot(refit.n, up) < 0) {
@@ -251,13 +224,7 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
     if (dot(refit.n, up) < cos_max) break;
     plane = refit;
   }
-  std::vector<int> band_inliers(scan_pool ? scan_pool->threads() : 1, 0);
-  in_bands(pts.size(), kMinPoolBand, [&](size_t b, size_t lo, size_t hi) {
-    int count = 0;
-    for (size_t k = lo; k < hi; ++k) count += std::abs(dot(plane.n, pts[k]) + plane.d) < band;
-    band_inliers[b] = count;
-  });
-  for (int c : band_inliers) best.inliers += c;
+  for (const Vec3& p : pts) best.inliers += std::abs(dot(plane.n, p) + plane.d) < band;
   best.plane = plane;
   return best;
 }
@@ -373,21 +340,13 @@ PlaneSearch find_parallel_plane(const ScanParams& params, const PlaneFit& first,
   // Heights above the first plane; the camera (height first.d) must be above the support.
   const double lo = -params.max_depth_m, hi = first.d;
   const int bins = static_cast<int>((hi - lo) / band) + 2;
-  // Per-band histograms, summed (counts: any order gives the same sums).
-  std::vector<std::vector<int>> band_count(scan_pool ? scan_pool->threads() : 1,
-                                           std::vector<int>(static_cast<size_t>(bins), 0));
-  const size_t bands = in_bands(pts.size(), kMinPoolBand, [&](size_t b, size_t first_k, size_t end_k) {
-    std::vector<int>& c = band_count[b];
-    for (size_t k = first_k; k < end_k; ++k) {
-      if (!use[k]) continue;
-      const double h = heights[k];
-      if (h <= lo || h >= hi) continue;
-      ++c[static_cast<size_t>((h - lo) / band)];
-    }
-  });
-  std::vector<int>& count = band_count[0];
-  for (size_t b = 1; b < bands; ++b)
-    for (int k = 0; k < bins; ++k) count[static_cast<size_t>(k)] += band_count[b][static_cast<size_t>(k)];
+  std::vector<int> count(static_cast<size_t>(bins), 0);
+  for (size_t k = 0; k < pts.size(); ++k) {
+    if (!use[k]) continue;
+    const double h = heights[k];
+    if (h <= lo || h >= hi) continue;
+    ++count[static_cast<size_t>((h - lo) / band)];
+  }
   // Bin pairs: a band of +-band around their shared edge.
   int peak = -1, peak_count = 0;
   for (int k = 1; k < bins; ++k) {
@@ -403,7 +362,8 @@ PlaneSearch find_parallel_plane(const ScanParams& params, const PlaneFit& first,
   for (int round = 0; round < 2; ++round) {
     std::vector<Vec3> in;
     in.reserve(static_cast<size_t>(peak_count) / 3 + 1);
-    every_third_inlier(pts, plane, band, in);
+    for (size_t k = 0; k < pts.size(); k += 3)
+      if (std::abs(dot(plane.n, pts[k]) + plane.d) < band) in.push_back(pts[k]);
     PlaneFit refit = fit_plane(in);
     if (!refit.ok) break;
     if (dot(refit.n, first.n) < 0) {
@@ -447,26 +407,24 @@ std::vector<char> facing_up(const Frame& f, const std::vector<int>& pixels,
   const PointXYZRGB* pts = f.points.data();
   // A NaN depth fails `z > 0`; a pixel with depth has finite coordinates here (the
   // pool holds valid pixels, and a NaN neighbour coordinate only makes the test fail).
-  in_bands(pixels.size(), kMinPoolBand, [&](size_t, size_t lo, size_t hi) {
-    for (size_t k = lo; k < hi; ++k) {
-      const int i = pixels[k], x = cells[k].x * stride, y = cells[k].y * stride;
-      const PointXYZRGB& c = pts[i];
-      // Along the row and along the column: from the pixel to its neighbour four grid
-      // steps on, or from the one as far back where that one has no depth.
-      const int right = x + reach < w && pts[i + reach].z > 0 ? i + reach
-                        : x >= reach && pts[i - reach].z > 0  ? i - reach
-                                                              : -1;
-      const int down = y + reach < h && pts[i + reach * w].z > 0 ? i + reach * w
-                       : y >= reach && pts[i - reach * w].z > 0  ? i - reach * w
-                                                                 : -1;
-      if (right < 0 || down < 0) continue;
-      const float ax = pts[right].x - c.x, ay = pts[right].y - c.y, az = pts[right].z - c.z;
-      const float bx = pts[down].x - c.x, by = pts[down].y - c.y, bz = pts[down].z - c.z;
-      const float nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
-      const float along = nx * ux + ny * uy + nz * uz, len2 = nx * nx + ny * ny + nz * nz;
-      out[k] = len2 > 0 && 2 * along * along >= len2;  // cos^2 >= cos^2(45 degrees)
-    }
-  });
+  for (size_t k = 0; k < pixels.size(); ++k) {
+    const int i = pixels[k], x = cells[k].x * stride, y = cells[k].y * stride;
+    const PointXYZRGB& c = pts[i];
+    // Along the row and along the column: from the pixel to its neighbour four grid
+    // steps on, or from the one as far back where that one has no depth.
+    const int right = x + reach < w && pts[i + reach].z > 0 ? i + reach
+                      : x >= reach && pts[i - reach].z > 0  ? i - reach
+                                                            : -1;
+    const int down = y + reach < h && pts[i + reach * w].z > 0 ? i + reach * w
+                     : y >= reach && pts[i - reach * w].z > 0  ? i - reach * w
+                                                               : -1;
+    if (right < 0 || down < 0) continue;
+    const float ax = pts[right].x - c.x, ay = pts[right].y - c.y, az = pts[right].z - c.z;
+    const float bx = pts[down].x - c.x, by = pts[down].y - c.y, bz = pts[down].z - c.z;
+    const float nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+    const float along = nx * ux + ny * uy + nz * uz, len2 = nx * nx + ny * ny + nz * nz;
+    out[k] = len2 > 0 && 2 * along * along >= len2;  // cos^2 >= cos^2(45 degrees)
+  }
   return out;
 }
 
@@ -998,16 +956,12 @@ bool on_plane(const PlaneFit& plane, const std::vector<Vec3>& sample, double gap
   std::vector<GridCell> pool_cells = strided_cells;
   std::vector<Vec3> pool_pts;
   std::vector<double> pool_band;  // each pool point's plane band (plane_band at its depth)
-  // The passes over the pool below run in bands of it on the scan's threads, each
-  // point's result its own, so one thread gives the same.
-  pool_pts.resize(pool.size());
-  pool_band.resize(pool.size());
-  in_bands(pool.size(), kMinPoolBand, [&](size_t, size_t lo, size_t hi) {
-    for (size_t k = lo; k < hi; ++k) {
-      pool_pts[k] = to_vec(f.points[pool[k]]);
-      pool_band[k] = plane_band(params, pool_pts[k].z);
-    }
-  });
+  pool_pts.reserve(pool.size());
+  pool_band.reserve(pool.size());
+  for (int i : pool) {
+    pool_pts.push_back(to_vec(f.points[i]));
+    pool_band.push_back(plane_band(params, pool_pts.back().z));
+  }
   const int min_region = std::max(1, params.min_plane_points / (4 * stride * stride));
   std::vector<std::pair<PlaneFit, std::vector<PlaneRegions>>> planes;
   std::vector<int> inliers;
@@ -1022,49 +976,9 @@ bool on_plane(const PlaneFit& plane, const std::vector<Vec3>& sample, double gap
   // Up-facing points within min_support_gap_m of a kept plane can give no later support
   // (supports lie that far apart, below): they leave the candidates with its inliers.
   auto clear_near = [&](const PlaneFit& kept) {
-    in_bands(pool.size(), kMinPoolBand, [&](size_t, size_t lo, size_t hi) {
-      for (size_t k = lo; k < hi; ++k)
-        if (pool_up[k] && std::abs(dot(kept.n, pool_pts[k]) + kept.d) < params.min_support_gap_m)
-          pool_up[k] = 0;
-    });
-  };
-  // Whether each pool point is an inlier of the plane tried (it leaves the pool), and
-  // the buffers the pool is compacted into.
-  std::vector<char> leaves;
-  std::vector<int> next_pool;
-  std::vector<GridCell> next_cells;
-  std::vector<Vec3> next_pts;
-  std::vector<double> next_band, next_h;
-  std::vector<char> next_up;
-  // The pool without the points that leave it, in order: each band's kept points go to
-  // the place its earlier bands' kept counts give, in the other set of buffers.
-  auto compact_pool = [&] {
-    const size_t n = pool.size();
-    std::vector<size_t> band_kept(scan_pool ? scan_pool->threads() : 1, 0);
-    const size_t bands = in_bands(n, kMinPoolBand, [&](size_t b, size_t lo, size_t hi) {
-      size_t kept = 0;
-      for (size_t k = lo; k < hi; ++k) kept += !leaves[k];
-      band_kept[b] = kept;
-    });
-    std::vector<size_t> offset(bands + 1, 0);
-    for (size_t b = 0; b < bands; ++b) offset[b + 1] = offset[b] + band_kept[b];
-    const size_t kept = offset[bands];
-    next_pool.resize(kept), next_cells.resize(kept), next_pts.resize(kept), next_band.resize(kept);
-    if (up_ready) next_up.resize(kept), next_h.resize(kept);
-    in_bands(n, kMinPoolBand, [&](size_t b, size_t lo, size_t hi) {
-      size_t to = offset[b];
-      for (size_t k = lo; k < hi; ++k) {
-        if (leaves[k]) {
-          free[pool[k]] = 0;
-          continue;
-        }
-        if (up_ready) next_up[to] = pool_up[k], next_h[to] = pool_h[k];
-        next_band[to] = pool_band[k];
-        next_pool[to] = pool[k], next_cells[to] = pool_cells[k], next_pts[to++] = pool_pts[k];
-      }
-    });
-    pool.swap(next_pool), pool_cells.swap(next_cells), pool_pts.swap(next_pts), pool_band.swap(next_band);
-    if (up_ready) pool_up.swap(next_up), pool_h.swap(next_h);
+    for (size_t k = 0; k < pool.size(); ++k)
+      if (pool_up[k] && std::abs(dot(kept.n, pool_pts[k]) + kept.d) < params.min_support_gap_m)
+        pool_up[k] = 0;
   };
   while (static_cast<int>(planes.size()) < params.max_planes && pool.size() >= 50) {
     // A plane holds at most the whole pool: when that is below min_plane_points no
@@ -1074,9 +988,7 @@ bool on_plane(const PlaneFit& plane, const std::vector<Vec3>& sample, double gap
       const PlaneFit& first = planes.front().first;
       pool_up = facing_up(f, pool, pool_cells, stride, first.n);
       pool_h.resize(pool.size());
-      in_bands(pool.size(), kMinPoolBand, [&](size_t, size_t lo, size_t hi) {
-        for (size_t k = lo; k < hi; ++k) pool_h[k] = dot(first.n, pool_pts[k]) + first.d;
-      });
+      for (size_t k = 0; k < pool.size(); ++k) pool_h[k] = dot(first.n, pool_pts[k]) + first.d;
       up_ready = true;
       clear_near(first);
     }
@@ -1097,13 +1009,9 @@ bool on_plane(const PlaneFit& plane, const std::vector<Vec3>& sample, double gap
     if (!planes.empty()) {
       // The up-facing points of the peak's band (its pair of bins, peak_height +- band).
       const double band = params.plane_distance_m;
-      BandParts<size_t> parts(at_peak);
-      parts.join(in_bands(pool.size(), kMinPoolBand, [&](size_t b, size_t lo, size_t hi) {
-        std::vector<size_t>& out = parts[b];
-        for (size_t k = lo; k < hi; ++k)
-          if (pool_up[k] && pool_h[k] >= peak_height - 1.5 * band && pool_h[k] < peak_height + 1.5 * band)
-            out.push_back(k);
-      }));
+      for (size_t k = 0; k < pool.size(); ++k)
+        if (pool_up[k] && pool_h[k] >= peak_height - 1.5 * band && pool_h[k] < peak_height + 1.5 * band)
+          at_peak.push_back(k);
       // The band an earlier support's own (its noisy far edge left outside its band;
       // supports lie min_support_gap_m apart, below): these points leave the
       // candidates, and the next band is tried.
@@ -1120,24 +1028,12 @@ bool on_plane(const PlaneFit& plane, const std::vector<Vec3>& sample, double gap
     // One pass finds the inliers for the regions and for leaving the pool.
     inliers.clear();
     inlier_cells.clear();
-    leaves.resize(pool.size());
-    {
-      BandParts<int> in_parts(inliers);
-      BandParts<GridCell> cell_parts(inlier_cells);
-      const size_t bands = in_bands(pool.size(), kMinPoolBand, [&](size_t b, size_t lo, size_t hi) {
-        std::vector<int>& in = in_parts[b];
-        std::vector<GridCell>& cells = cell_parts[b];
-        for (size_t k = lo; k < hi; ++k) {
-          const Vec3& p = pool_pts[k];
-          leaves[k] = std::abs(dot(ps.plane.n, p) + ps.plane.d) < pool_band[k];
-          if (leaves[k]) {
-            in.push_back(pool[k]);
-            cells.push_back(pool_cells[k]);
-          }
-        }
-      });
-      in_parts.join(bands);
-      cell_parts.join(bands);
+    for (size_t k = 0; k < pool.size(); ++k) {
+      const Vec3& p = pool_pts[k];
+      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < pool_band[k]) {
+        inliers.push_back(pool[k]);
+        inlier_cells.push_back(pool_cells[k]);
+      }
     }
     if (!planes.empty() && static_cast<int>(inliers.size()) * stride * stride < params.min_plane_points) {
       // Too few points at this height (an object's top): its up-facing points leave
@@ -1148,7 +1044,19 @@ bool on_plane(const PlaneFit& plane, const std::vector<Vec3>& sample, double gap
     std::vector<PlaneRegions> regions =
         plane_regions(f, inliers, inlier_cells, stride, min_region, true);
     // Its inliers leave the search whether it counts or not (an object's top).
-    compact_pool();
+    for (int i : inliers) free[i] = 0;
+    size_t kept = 0;
+    for (size_t k = 0; k < pool.size(); ++k)
+      if (free[pool[k]]) {
+        if (up_ready) pool_up[kept] = pool_up[k], pool_h[kept] = pool_h[k];
+        pool_band[kept] = pool_band[k];
+        pool[kept] = pool[k], pool_cells[kept] = pool_cells[k], pool_pts[kept++] = pool_pts[k];
+      }
+    pool.resize(kept);
+    pool_band.resize(kept);
+    pool_cells.resize(kept);
+    pool_pts.resize(kept);
+    if (up_ready) pool_up.resize(kept), pool_h.resize(kept);
     int total = 0;
     for (const PlaneRegions& r : regions) total += static_cast<int>(r.members.size()) * stride * stride;
     if (total < params.min_plane_points) continue;
