@@ -448,11 +448,14 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
   // height), and a single missing cell must not cut it apart. The relation is
   // symmetric, so joining each cell to its earlier neighbours (raster order) joins
   // every pair: one pass of union-find, each set's root its first cell.
+  // A cell's parent is never a later cell (a join hangs the later root under the earlier
+  // one, path halving only shortens paths), and a set's root is its first cell.
   std::vector<int> parent(cells.size());
   auto root = [&](int k) {
     while (parent[k] != k) k = parent[k] = parent[parent[k]];
     return k;
   };
+  int prev_root = -1;  // the previous cell's root once it was placed
   for (size_t k = 0; k < cells.size(); ++k) {
     const size_t c = cell(cells[k].x, cells[k].y);
     at[c] = static_cast<int>(k);
@@ -468,28 +471,32 @@ std::vector<PlaneRegions> plane_regions(const Frame& f, const std::vector<int>& 
         parent[rm] = r;
     };
     // Two cells back along the row or column is already joined to one cell back when
-    // that is an inlier (they are each other's neighbours).
-    if (const int m = at[c - 1]; m >= 0)
-      join(m);
+    // that is an inlier (they are each other's neighbours). The cell one back along the
+    // row, when an inlier, is the previous one (k - 1), whose root is the one it was left
+    // with: nothing has joined since.
+    if (at[c - 1] >= 0)
+      parent[k] = r = prev_root;
     else if (const int m2 = at[c - 2]; m2 >= 0)
       join(m2);
     if (const int m = at[c - pw]; m >= 0)
       join(m);
     else if (const int m2 = at[c - 2 * pw]; m2 >= 0)
       join(m2);
+    prev_root = r;
   }
   for (const GridCell& g : cells) at[cell(g.x, g.y)] = -1;
   // Regions are numbered in the order of their first cells, as a scan of the grid that
   // floods each region from its first cell would number them.
   std::vector<int> region(cells.size());
   std::vector<int> sizes;
+  // A cell's parent is an earlier cell of its set, numbered already: no root walk.
   for (size_t k = 0; k < cells.size(); ++k) {
-    const int r = root(static_cast<int>(k));
-    if (r == static_cast<int>(k)) {
+    const int p = parent[k];
+    if (p == static_cast<int>(k)) {
       region[k] = static_cast<int>(sizes.size());
       sizes.push_back(0);
     } else {
-      region[k] = region[static_cast<size_t>(r)];
+      region[k] = region[static_cast<size_t>(p)];
     }
     ++sizes[static_cast<size_t>(region[k])];
   }
