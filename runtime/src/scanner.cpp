@@ -630,15 +630,16 @@ double hull_area(const Hull2& h) {
 std::vector<std::vector<int>> grow_clusters(const Frame& f, const std::vector<char>& mask,
                                             const std::vector<int>& seeds, int step,
                                             const ScanParams& params) {
-  std::vector<int> label(mask.size(), -1);
+  // The candidates not yet in a cluster: `mask` with each pixel cleared as it joins one,
+  // so a neighbour takes one test (same support, still free), not two.
+  std::vector<char> open = mask;
   std::vector<std::vector<int>> clusters;
   const int w = std::max(1, params.cluster_window_px / step);
   std::vector<int> queue;
   for (int start : seeds) {
-    if (label[start] >= 0) continue;
-    const int id = static_cast<int>(clusters.size());
+    if (!open[start]) continue;
     queue.assign(1, start);
-    label[start] = id;
+    open[start] = 0;
     for (size_t q = 0; q < queue.size(); ++q) {
       const int i = queue[q], x = i % f.width, y = i / f.width;
       const PointXYZRGB& p = f.points[i];
@@ -651,11 +652,11 @@ std::vector<std::vector<int>> grow_clusters(const Frame& f, const std::vector<ch
         const int row = (y + dy * step) * f.width;
         for (int dx = dx0; dx <= dx1; ++dx) {
           const int j = row + x + dx * step;
-          if (mask[j] != own || label[j] >= 0) continue;
+          if (open[j] != own) continue;
           const PointXYZRGB& o = f.points[j];
           const double ddx = p.x - o.x, ddy = p.y - o.y, ddz = p.z - o.z;
           if (ddx * ddx + ddy * ddy + ddz * ddz > tol2) continue;
-          label[j] = id;
+          open[j] = 0;
           queue.push_back(j);
         }
       }
