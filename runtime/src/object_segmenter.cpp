@@ -2,6 +2,7 @@
 #include "annex/runtime/object_segmenter.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <map>
@@ -30,6 +31,13 @@ struct LocalGrid {
     return slot[static_cast<size_t>(gy) * gw + gx];
   }
 };
+
+// std::lround for an arm length in pixels (not negative): x + 0.5 is exact below 2^30
+// except at 0.49999999999999994, which rounds to 1 instead of 0, and the callers take
+// at least 1 pixel anyway. Several times cheaper than the library call.
+int round_arm(double x) {
+  return x >= 0 && x < 1073741824.0 ? static_cast<int>(x + 0.5) : static_cast<int>(std::lround(x));
+}
 
 int find_root(std::vector<int>& parent, int a) {
   while (parent[a] != a) a = parent[a] = parent[parent[a]];
@@ -74,8 +82,12 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
   const int bw = std::min(f.width - bx0, g.gw * step), bh = std::min(f.height - by0, g.gh * step);
   constexpr float kUnknown = -1.0f;
   std::vector<float> mean_inv(static_cast<size_t>(bw) * bh, kUnknown);
+  // (x, y) lies in the cluster's box here, so its grid cell is a cell of the box.
   auto mean_inverse_depth = [&](int x, int y) -> float {
-    if (x < 1 || y < 1 || x >= f.width - 1 || y >= f.height - 1 || g.at(x, y) < 0) return 0.0f;
+    if (x < 1 || y < 1 || x >= f.width - 1 || y >= f.height - 1) return 0.0f;
+    const int gx = (g.shift >= 0 ? x >> g.shift : x / step) - g.gx0;
+    const int gy = (g.shift >= 0 ? y >> g.shift : y / step) - g.gy0;
+    if (g.slot[static_cast<size_t>(gy) * g.gw + gx] < 0) return 0.0f;
     const PointXYZRGB& c = f.points[static_cast<size_t>(y) * f.width + x];
     if (!valid(c)) return 0.0f;
     double sum = 0;
@@ -83,17 +95,21 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
     for (int dy = -1; dy <= 1; ++dy) {
       const PointXYZRGB* row = &f.points[static_cast<size_t>(y + dy) * f.width + x];
       for (int dx = -1; dx <= 1; ++dx) {
-        const PointXYZRGB& q = row[dx];
-        if (!valid(q) || std::abs(q.z - c.z) > 0.02f) continue;
-        sum += 1.0 / q.z;
+        const float qz = row[dx].z;
+        // valid(q) and within 2 cm of c in one test: a NaN or infinite depth fails the
+        // <= (c.z is finite), and q.z > 0 is tested apart as valid() does.
+        if (!(std::abs(qz - c.z) <= 0.02f) || !(qz > 0)) continue;
+        sum += 1.0 / qz;
         ++count;
       }
     }
     return static_cast<float>(sum / count);
   };
   auto inv_depth = [&](int x, int y) -> double {
-    if (x < bx0 || y < by0 || x >= bx0 + bw || y >= by0 + bh) return 0;
-    float& m = mean_inv[static_cast<size_t>(y - by0) * bw + (x - bx0)];
+    // One unsigned compare per axis tests both ends of the box.
+    const unsigned lx = static_cast<unsigned>(x - bx0), ly = static_cast<unsigned>(y - by0);
+    if (lx >= static_cast<unsigned>(bw) || ly >= static_cast<unsigned>(bh)) return 0;
+    float& m = mean_inv[static_cast<size_t>(ly) * bw + lx];
     if (m == kUnknown) m = mean_inverse_depth(x, y);
     return m;
   };
@@ -102,6 +118,8 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
   const double fx = CameraIntrinsics{}.fx * f.width / CameraIntrinsics{}.width;
   std::vector<char> crease(n, 0);
   const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+  // The directions' lengths, hypot(d) (1 along rows and columns), computed once.
+  const double diagonal_length = std::hypot(1.0, 1.0);
   for (int k = 0; k < n; ++k) {
     const int i = grid_pixels[k], x = i % f.width, y = i / f.width;
     const double ip = inv_depth(x, y);
@@ -116,16 +134,20 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
     // 2 m on a Kinect) the test cannot tell: such pixels are never creases.
     if (threshold > params.right_angle_depth_share * arm_px * z / fx) continue;
     // Arm lengths in pixels along the rows and columns and along the diagonals.
-    const int r_axis = std::max(1, static_cast<int>(std::lround(arm_px)));
-    const int r_diagonal = std::max(1, static_cast<int>(std::lround(arm_px / std::sqrt(2.0))));
+    const int r_axis = std::max(1, round_arm(arm_px));
+    const int r_diagonal = std::max(1, round_arm(arm_px / std::sqrt(2.0)));
     for (const auto& d : dirs) {
-      const int r = (d[0] != 0 && d[1] != 0) ? r_diagonal : r_axis;
+      const bool diagonal = d[0] != 0 && d[1] != 0;
+      const int r = diagonal ? r_diagonal : r_axis;
+      // The far arm's mean only when the near one is usable (the means do not depend on
+      // the order they are computed in).
       const double ia = inv_depth(x - d[0] * r, y - d[1] * r);
+      if (ia <= 0) continue;
       const double ib = inv_depth(x + d[0] * r, y + d[1] * r);
-      if (ia <= 0 || ib <= 0) continue;
+      if (ib <= 0) continue;
       // A surface seen edge-on (depth changing several times faster than the image
       // position) is too noisy for the test; steps that steep exceed the tolerance.
-      const double span_m = 2 * r * std::hypot(d[0], d[1]) * z / fx;
+      const double span_m = 2 * r * (diagonal ? diagonal_length : 1.0) * z / fx;
       if (std::abs(1.0 / ia - 1.0 / ib) > params.max_chord_slope * span_m) continue;
       if (z - 2.0 / (ia + ib) > threshold) {
         crease[k] = 1;
@@ -135,32 +157,36 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
   }
 
   // Grid neighbours within the 3D tolerance: the 8 neighbours, as the scanner's
-  // clustering joins them (its +-1 grid window), found once and kept in order (the
-  // region passes below walk them up to four times).
+  // clustering joins them (its +-1 grid window), found once and kept per pixel in a
+  // fixed order (left, right, up, down, then the diagonals; -1 where none joins): the
+  // region passes below walk them up to four times. Each pair is tested once, from the
+  // pixel whose neighbour lies right or below (the squared distance is symmetric).
   const double tol2 = tolerance_m * tolerance_m;
-  std::vector<int> adjacent_start(static_cast<size_t>(n) + 1, 0), adjacent;
-  adjacent.reserve(static_cast<size_t>(n) * 8);
+  constexpr int kOffsets[8][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
+  constexpr int kForward[4] = {1, 3, 6, 7};  // (1, 0), (0, 1), (-1, 1), (1, 1)
+  constexpr int kOpposite[8] = {1, 0, 3, 2, 7, 6, 5, 4};
+  std::vector<std::array<int, 8>> adjacent(static_cast<size_t>(n));
+  for (auto& a : adjacent) a.fill(-1);
   // Grid pixels lie on multiples of step, so a neighbour one step away is the next cell
   // of the box (outside it, or off the image, no cell of the cluster).
   for (int k = 0; k < n; ++k) {
-    const int i = grid_pixels[k];
-    const int gx = (i % f.width) / step - g.gx0, gy = (i / f.width) / step - g.gy0;
+    const int i = grid_pixels[k], x = i % f.width, y = i / f.width;
+    const int gx = (g.shift >= 0 ? x >> g.shift : x / step) - g.gx0;
+    const int gy = (g.shift >= 0 ? y >> g.shift : y / step) - g.gy0;
     const PointXYZRGB& p = f.points[i];
-    const int nb[8][2] = {{gx - 1, gy}, {gx + 1, gy}, {gx, gy - 1}, {gx, gy + 1},
-                          {gx - 1, gy - 1}, {gx + 1, gy - 1}, {gx - 1, gy + 1},
-                          {gx + 1, gy + 1}};
-    for (const auto& q : nb) {
-      const int m = g.local(q[0], q[1]);
+    for (int d : kForward) {
+      const int m = g.local(gx + kOffsets[d][0], gy + kOffsets[d][1]);
       if (m < 0) continue;
       const PointXYZRGB& o = f.points[grid_pixels[m]];
       const double dx = p.x - o.x, dy = p.y - o.y, dz = p.z - o.z;
-      if (dx * dx + dy * dy + dz * dz <= tol2) adjacent.push_back(m);
+      if (dx * dx + dy * dy + dz * dz > tol2) continue;
+      adjacent[static_cast<size_t>(k)][d] = m;
+      adjacent[static_cast<size_t>(m)][kOpposite[d]] = k;
     }
-    adjacent_start[static_cast<size_t>(k) + 1] = static_cast<int>(adjacent.size());
   }
   auto neighbours = [&](int k, auto&& visit) {
-    for (int a = adjacent_start[static_cast<size_t>(k)]; a < adjacent_start[static_cast<size_t>(k) + 1]; ++a)
-      visit(adjacent[static_cast<size_t>(a)]);
+    for (int m : adjacent[static_cast<size_t>(k)])
+      if (m >= 0) visit(m);
   };
 
   // Regions over non-crease pixels.

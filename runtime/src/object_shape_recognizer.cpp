@@ -82,8 +82,36 @@ struct Candidate {
   double score = 0, coverage = 0, rms = 0;
 };
 
+// A candidate's terms that do not depend on the point: computed once per pass over the
+// points, not once per point (the same expressions, so the same values).
+struct CandidateTerms {
+  double cs = 1, sn = 0;           // box, lying cylinder: cos and sin of the azimuth
+  double span = 1, cos_a = 1;      // cylinder, cone: height span, cos of the side's slope
+};
+
+CandidateTerms terms_of(const Candidate& c) {
+  CandidateTerms t;
+  switch (c.model) {
+    case Model::cylinder:
+    case Model::cone: {
+      t.span = std::max(c.h1 - c.h0, 1e-6);
+      const double slope = (c.r1 - c.r0) / t.span;
+      t.cos_a = 1.0 / std::sqrt(1.0 + slope * slope);
+      break;
+    }
+    case Model::box:
+    case Model::lying_cylinder:
+      t.cs = std::cos(c.theta);
+      t.sn = std::sin(c.theta);
+      break;
+    default:
+      break;
+  }
+  return t;
+}
+
 // Distance from a point to the visible surface of a solid resting on the plane.
-double distance(const Candidate& c, const Local& p) {
+double distance(const Candidate& c, const CandidateTerms& k, const Local& p) {
   const double da = p.a - c.ca, db = p.b - c.cb;
   switch (c.model) {
     case Model::sphere:
@@ -91,14 +119,11 @@ double distance(const Candidate& c, const Local& p) {
     case Model::cylinder:
     case Model::cone: {
       const double rho = std::sqrt(da * da + db * db);
-      const double span = std::max(c.h1 - c.h0, 1e-6);
-      const double t = std::clamp((p.h - c.h0) / span, 0.0, 1.0);
+      const double t = std::clamp((p.h - c.h0) / k.span, 0.0, 1.0);
       const double r_at = c.r0 + (c.r1 - c.r0) * t;
       // Side: radial offset (scaled by the slope) plus any overshoot beyond the ends.
-      const double slope = (c.r1 - c.r0) / span;
-      const double cos_a = 1.0 / std::sqrt(1.0 + slope * slope);
       const double over = p.h > c.h1 ? p.h - c.h1 : (p.h < c.h0 ? c.h0 - p.h : 0.0);
-      const double side = len2((rho - r_at) * cos_a, over);
+      const double side = len2((rho - r_at) * k.cos_a, over);
       const double cap = len2(std::max(0.0, rho - c.r1), p.h - c.h1);
       // An open container (a pot, a cup, a bowl) shows its inner floor through its top.
       const double floor = c.floor_h >= 0 && rho < r_at && p.h < c.h1 ? std::abs(p.h - c.floor_h) : 1e9;
@@ -109,8 +134,7 @@ double distance(const Candidate& c, const Local& p) {
       return std::abs(len2(rho - c.major, p.h - c.hc) - c.minor);
     }
     case Model::box: {
-      const double cs = std::cos(c.theta), sn = std::sin(c.theta);
-      const double x = std::abs(cs * da + sn * db), y = std::abs(-sn * da + cs * db);
+      const double x = std::abs(k.cs * da + k.sn * db), y = std::abs(-k.sn * da + k.cs * db);
       const double h_top = c.h1;
       const double ox = x - c.ex, oy = y - c.ey, oh = p.h - h_top;
       if (ox <= 0 && oy <= 0 && oh <= 0 && p.h >= 0) return std::min({-ox, -oy, -oh});
@@ -118,8 +142,7 @@ double distance(const Candidate& c, const Local& p) {
                        std::pow(std::max(oh, 0.0) + std::max(-p.h, 0.0), 2));
     }
     case Model::lying_cylinder: {
-      const double cs = std::cos(c.theta), sn = std::sin(c.theta);
-      const double s = cs * da + sn * db, w = -sn * da + cs * db;
+      const double s = k.cs * da + k.sn * db, w = -k.sn * da + k.cs * db;
       const double rho = len2(w, p.h - c.hc);
       const double over = std::max(std::abs(s) - c.ex, 0.0);
       const double side = len2(rho - c.r0, over);
@@ -167,13 +190,12 @@ bool behind_sphere(const Candidate& c, const Local& p, const Local& eye, double 
 }
 
 // Inside the upper third of a box or cylinder: where lids, gables and caps sit.
-bool in_lid(const Candidate& c, const Local& p) {
+bool in_lid(const Candidate& c, const CandidateTerms& k, const Local& p) {
   if (c.model != Model::box && c.model != Model::cylinder) return false;
   if (p.h > c.h1 || p.h < c.h0 + 0.67 * (c.h1 - c.h0)) return false;
   const double da = p.a - c.ca, db = p.b - c.cb;
   if (c.model == Model::cylinder) return da * da + db * db < c.r0 * c.r0;
-  const double cs = std::cos(c.theta), sn = std::sin(c.theta);
-  return std::abs(cs * da + sn * db) < c.ex && std::abs(-sn * da + cs * db) < c.ey;
+  return std::abs(k.cs * da + k.sn * db) < c.ex && std::abs(-k.sn * da + k.cs * db) < c.ey;
 }
 
 // Just outside the side of an upright cylinder, in the upper half of its body: where a
@@ -201,17 +223,18 @@ bool in_rim_part(const Candidate& c, const Local& p, double tol) {
 void evaluate(Candidate& c, const Samples& s) {
   double score[2] = {0, 0}, covered[2] = {0, 0}, count[2] = {0, 0}, sq = 0;
   int explained = 0;
+  const CandidateTerms terms = terms_of(c);
   for (size_t i = 0; i < s.p.size(); ++i) {
     const int g = s.has_normals && std::abs(s.up[i]) > 0.6 ? 1 : 0;
     count[g] += 1;
-    const double d = distance(c, s.p[i]);
+    const double d = distance(c, terms, s.p[i]);
     const double e = d / s.tol[i];
     if (e < 1 && !behind_sphere(c, s.p[i], s.eye, s.tol[i])) {
       score[g] += 1 - e * e;
       sq += d * d;
       covered[g] += 1;
       ++explained;
-    } else if (in_lid(c, s.p[i]) || in_rim_part(c, s.p[i], s.tol[i])) {
+    } else if (in_lid(c, terms, s.p[i]) || in_rim_part(c, s.p[i], s.tol[i])) {
       score[g] += 0.5;
       covered[g] += 0.5;
     }
@@ -394,14 +417,23 @@ Circle robust_circle(const std::vector<std::array<double, 2>>& q, const std::vec
   std::uniform_int_distribution<size_t> pick(0, q.size() - 1);
   Circle best;
   double best_score = -1;
+  // Every third point scores the draws, kept in arrays of their own: each draw's
+  // residuals are one packed pass (Eigen's sqrt and division per element, the same
+  // values as len2), then summed in the points' order as before.
+  const Eigen::Index scored = static_cast<Eigen::Index>((q.size() + 2) / 3);
+  Eigen::ArrayXd qa(scored), qb(scored), qt(scored), e(scored);
+  for (Eigen::Index j = 0; j < scored; ++j) {
+    qa[j] = q[static_cast<size_t>(3 * j)][0];
+    qb[j] = q[static_cast<size_t>(3 * j)][1];
+    qt[j] = tol[static_cast<size_t>(3 * j)];
+  }
   for (int it = 0; it < 60; ++it) {
     const Circle c = circle_through(q[pick(rng)], q[pick(rng)], q[pick(rng)]);
     if (!c.ok || c.r < params.min_radius_m || c.r > params.max_radius_m) continue;
+    e = (((qa - c.x).square() + (qb - c.y).square()).sqrt() - c.r) / qt;
     double score = 0;
-    for (size_t i = 0; i < q.size(); i += 3) {
-      const double e = (len2(q[i][0] - c.x, q[i][1] - c.y) - c.r) / tol[i];
-      if (std::abs(e) < 1) score += 1 - e * e;
-    }
+    for (Eigen::Index j = 0; j < scored; ++j)
+      if (std::abs(e[j]) < 1) score += 1 - e[j] * e[j];
     if (score > best_score) {
       best_score = score;
       best = c;
@@ -1539,8 +1571,9 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   auto secondary = [&](const Candidate& body) -> std::optional<ShapeFit> {
     if (body.model != Model::cylinder && body.model != Model::box) return std::nullopt;
     std::vector<int> rest;
+    const CandidateTerms body_terms = terms_of(body);
     for (size_t i = 0; i < s.p.size(); ++i)
-      if (distance(body, s.p[i]) > s.tol[i] && s.p[i].h > body.h1 - 2 * s.tol[i])
+      if (distance(body, body_terms, s.p[i]) > s.tol[i] && s.p[i].h > body.h1 - 2 * s.tol[i])
         rest.push_back(static_cast<int>(i));
     const double share = static_cast<double>(rest.size()) / s.p.size();
     if (share < params.min_secondary_share || rest.size() < 30) return std::nullopt;

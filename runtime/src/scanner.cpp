@@ -763,8 +763,10 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
     const double r = std::max({params.mls_radius_m, 3 * kinect_sigma_z(p.z), 1.5 * w * pixel_m});
     const double r2 = r * r;
     // The sums of the coordinates and of their six distinct products (the second
-    // moments are symmetric).
-    double sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
+    // moments are symmetric), two to a packed pair: each lane adds the same products in
+    // the same order as one sum at a time would (the same values), in half the steps.
+    Eigen::Array2d s_xy(0, 0), s_xx_yy(0, 0), s_xy_yz(0, 0), s_xz_zz(0, 0);
+    double sz = 0;
     int n = 0;
     const int hop = w > 3 ? 2 : 1;  // a sparser window keeps the cost flat
     // The window's first offsets inside the image (the same offsets as testing each).
@@ -780,12 +782,17 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
         const double qx = pj.x, qy = pj.y, qz = pj.z;
         const double ex = qx - p.x, ey = qy - p.y, ez = qz - p.z;
         if (ex * ex + ey * ey + ez * ez > r2) continue;
-        sx += qx, sy += qy, sz += qz;
-        sxx += qx * qx, sxy += qx * qy, sxz += qx * qz;
-        syy += qy * qy, syz += qy * qz, szz += qz * qz;
+        const Eigen::Array2d xy(qx, qy);
+        s_xy += xy;
+        sz += qz;
+        s_xx_yy += xy * xy;
+        s_xy_yz += xy * Eigen::Array2d(qy, qz);
+        s_xz_zz += Eigen::Array2d(qx, qz) * qz;
         ++n;
       }
     }
+    const double sx = s_xy[0], sy = s_xy[1], sxx = s_xx_yy[0], syy = s_xx_yy[1];
+    const double sxy = s_xy_yz[0], syz = s_xy_yz[1], sxz = s_xz_zz[0], szz = s_xz_zz[1];
     if (n < 5 || params.mls_radius_m <= 0) {
       points.push_back(p);
       normals.push_back({0, 0, 0});
