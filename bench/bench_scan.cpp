@@ -15,7 +15,8 @@
 //        misclassification, leg and sliver; --png-dir: the world scenes' pictures, frames;
 //        --world-seed: the world set's first seed, 2001: the tuned set; 5001: held out;
 //        --rooms: room_scene_params, table heights 0.4-1.1 m, a rolled camera, chairs,
-//        shelves, objects on the floor, touching, across a table edge, dark)
+//        shelves and objects on their boards, objects on the floor, touching, across a table
+//        edge, dark)
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -303,9 +304,11 @@ const char* background_name(int label) {
 }
 
 // The room features a generated object has (none in world_scene_params' scenes).
-std::vector<std::string> room_features(const SyntheticObject& o) {
+std::vector<std::string> room_features(const SyntheticScene& s, const SyntheticObject& o) {
   std::vector<std::string> out;
   if (o.support < 0) out.push_back("floor");
+  if (o.support > 0 && s.furniture[static_cast<size_t>(o.support - 1)].role == SyntheticBlock::Role::shelf)
+    out.push_back("on-shelf");
   if (o.touching >= 0) out.push_back("touching");
   if (o.overhang) out.push_back("overhang");
   if (o.albedo < 1) out.push_back("dark");
@@ -421,7 +424,7 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
     }
     for (size_t t = 0; t < f.truth.objects.size(); ++t) {
       const PhysicalObject& truth = f.truth.objects[t];
-      const std::vector<std::string> features = room_features(scene->objects[t]);
+      const std::vector<std::string> features = room_features(*scene, scene->objects[t]);
       if (truth.partial) {
         ++cut_objects;
         continue;
