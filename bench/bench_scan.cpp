@@ -459,8 +459,12 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
       const std::string row = truth_class(tp);
       if (pick < 0) {
         ++confusion[row]["missed"];
-        if (verbose)
-          std::printf("  seed %d truth %zu %s at %.2f m: missed\n", seed, t, row.c_str(), dist);
+        if (verbose) {
+          std::printf("  seed %d truth %zu %s at %.2f m: missed (%d points seen", seed, t, row.c_str(), dist,
+                      truth.point_count);
+          for (const std::string& feature : features) std::printf(", %s", feature.c_str());
+          std::printf(")\n");
+        }
         continue;
       }
       ++b.found;
@@ -480,9 +484,10 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
         std::printf("  seed %d %s truth %s [", seed, o.id.c_str(), row.c_str());
         for (double d : tp.dimensions_m) std::printf(" %.3f", d);
         const auto& won = scan->clusters[static_cast<size_t>(pick)].shape.primitives;
-        std::printf(" ] at %.2f m, %d points, partial=%d -> %s (cov %.2f rms %.1f); candidates:", dist,
-                    o.point_count, o.partial ? 1 : 0, col.c_str(), won.empty() ? 0.0 : won[0].coverage,
-                    won.empty() ? 0.0 : 1000 * won[0].rms_m);
+        std::printf(" ] at %.2f m, %d points", dist, o.point_count);
+        for (const std::string& feature : features) std::printf(", %s", feature.c_str());
+        std::printf(", partial=%d -> %s (cov %.2f rms %.1f); candidates:", o.partial ? 1 : 0, col.c_str(),
+                    won.empty() ? 0.0 : won[0].coverage, won.empty() ? 0.0 : 1000 * won[0].rms_m);
         for (const ShapeFit& c : scan->clusters[static_cast<size_t>(pick)].shape.candidates)
           std::printf(" %s(cov %.2f rms %.1f)", std::string(shape_name(c.primitive.kind)).c_str(),
                       c.coverage, 1000 * c.rms_m);
