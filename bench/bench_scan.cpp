@@ -17,7 +17,8 @@
 //        misclassification, leg and sliver; --png-dir: the world scenes' pictures, frames;
 //        --world-seed: the world set's first seed, 2001: the tuned set; 5001: held out;
 //        --rooms: room_scene_params, table heights 0.4-1.1 m, a rolled camera, chairs,
-//        shelves, objects on the floor, touching, across a table edge, dark)
+//        shelves and objects on their boards, objects on the floor, touching, across a table
+//        edge, dark)
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -312,9 +313,11 @@ const char* background_name(int label) {
 }
 
 // The room features a generated object has (none in world_scene_params' scenes).
-std::vector<std::string> room_features(const SyntheticObject& o) {
+std::vector<std::string> room_features(const SyntheticScene& s, const SyntheticObject& o) {
   std::vector<std::string> out;
   if (o.support < 0) out.push_back("floor");
+  if (o.support > 0 && s.furniture[static_cast<size_t>(o.support - 1)].role == SyntheticBlock::Role::shelf)
+    out.push_back("on-shelf");
   if (o.touching >= 0) out.push_back("touching");
   if (o.overhang) out.push_back("overhang");
   if (o.albedo < 1) out.push_back("dark");
@@ -430,7 +433,7 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
     }
     for (size_t t = 0; t < f.truth.objects.size(); ++t) {
       const PhysicalObject& truth = f.truth.objects[t];
-      const std::vector<std::string> features = room_features(scene->objects[t]);
+      const std::vector<std::string> features = room_features(*scene, scene->objects[t]);
       if (truth.partial) {
         ++cut_objects;
         continue;
@@ -465,8 +468,12 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
       const std::string row = truth_class(tp);
       if (pick < 0) {
         ++confusion[row]["missed"];
-        if (verbose)
-          std::printf("  seed %d truth %zu %s at %.2f m: missed\n", seed, t, row.c_str(), dist);
+        if (verbose) {
+          std::printf("  seed %d truth %zu %s at %.2f m: missed (%d points seen", seed, t, row.c_str(), dist,
+                      truth.point_count);
+          for (const std::string& feature : features) std::printf(", %s", feature.c_str());
+          std::printf(")\n");
+        }
         continue;
       }
       ++b.found;
@@ -486,9 +493,10 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
         std::printf("  seed %d %s truth %s [", seed, o.id.c_str(), row.c_str());
         for (double d : tp.dimensions_m) std::printf(" %.3f", d);
         const auto& won = scan->clusters[static_cast<size_t>(pick)].shape.primitives;
-        std::printf(" ] at %.2f m, %d points, partial=%d -> %s (cov %.2f rms %.1f); candidates:", dist,
-                    o.point_count, o.partial ? 1 : 0, col.c_str(), won.empty() ? 0.0 : won[0].coverage,
-                    won.empty() ? 0.0 : 1000 * won[0].rms_m);
+        std::printf(" ] at %.2f m, %d points", dist, o.point_count);
+        for (const std::string& feature : features) std::printf(", %s", feature.c_str());
+        std::printf(", partial=%d -> %s (cov %.2f rms %.1f); candidates:", o.partial ? 1 : 0, col.c_str(),
+                    won.empty() ? 0.0 : won[0].coverage, won.empty() ? 0.0 : 1000 * won[0].rms_m);
         for (const ShapeFit& c : scan->clusters[static_cast<size_t>(pick)].shape.candidates)
           std::printf(" %s(cov %.2f rms %.1f)", std::string(shape_name(c.primitive.kind)).c_str(),
                       c.coverage, 1000 * c.rms_m);

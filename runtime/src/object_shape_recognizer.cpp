@@ -1256,6 +1256,37 @@ int saturated_choice(const std::vector<SelectionEntry>& entries, double n, doubl
   return pick;
 }
 
+// The best candidate by rank leaves points unexplained, and a candidate that paid the
+// complexity margin explains (nearly) all of them: a bowl's flared side that the cylinder
+// of its rim cannot reach. The margin is a fixed share of the score whatever the number
+// of points, while the unexplained points are evidence that grows with their number: the
+// two are compared by the information criterion instead, n (1 - evidence) tol^2 / sigma^2
+// + k ln n over n independent points (an unexplained point costs tol^2, the truncation of
+// the score), sigma the smallest RMS among the saturated (an upper bound of the noise;
+// the unsaturated best's RMS counts only the points it explains). entries[0] is the best
+// by rank, the others the saturated candidates that paid the margin; returns the index
+// into entries of the least criterion.
+int margin_paid_choice(const std::vector<SelectionEntry>& entries, double n, double mean_tol2,
+                       double saturated) {
+  double sigma = 1e9;
+  for (const SelectionEntry& e : entries)
+    if (e.coverage >= saturated && e.rms_m > 0) sigma = std::min(sigma, e.rms_m);
+  if (sigma >= 1e9 || n <= 0) return 0;
+  sigma = std::max(sigma, 1e-4);
+  int pick = 0;
+  double least = 1e300;
+  for (size_t i = 0; i < entries.size(); ++i) {
+    const SelectionEntry& e = entries[i];
+    const double bic = n * std::max(0.0, 1 - e.evidence) * mean_tol2 / (sigma * sigma) +
+                       e.parameters * std::log(std::max(n, 2.0));
+    if (bic < least) {
+      least = bic;
+      pick = static_cast<int>(i);
+    }
+  }
+  return pick;
+}
+
 // A round top with nothing seen below its rim where an upright cylinder's side would
 // face the camera: a body narrowing under its rim (a bowl, a pot or a lampshade widening
 // up, seen from above), whose side faces down, hidden by the rim. The cylinder predicts
@@ -1448,7 +1479,25 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
         best_score = rank[i];
         best = static_cast<int>(i);
       }
-    if (best < 0 || cands[best].coverage < 1 - params.complexity_margin) return;
+    if (best < 0) return;
+    if (cands[best].coverage < 1 - params.complexity_margin) {
+      // A saturated candidate behind the best only by the margin it paid
+      // (margin_paid_choice).
+      std::vector<SelectionEntry> entries{
+          {evidence[best], cands[best].coverage, cands[best].rms, parameter_count(cands[best].model)}};
+      std::vector<int> index{best};
+      for (size_t i = 0; i < cands.size(); ++i)
+        if (judged[i] && cands[i].valid && cands[i].coverage >= 1 - params.complexity_margin &&
+            rank[i] < evidence[i] && evidence[i] > evidence[best]) {
+          entries.push_back({evidence[i], cands[i].coverage, cands[i].rms, parameter_count(cands[i].model)});
+          index.push_back(static_cast<int>(i));
+        }
+      if (index.size() < 2) return;
+      if (independent.value < 0) independent.value = independent_points(s);
+      best = index[static_cast<size_t>(margin_paid_choice(entries, independent.value, tol2,
+                                                          1 - params.complexity_margin))];
+      return;
+    }
     std::vector<SelectionEntry> entries;
     std::vector<int> index;
     int saturated = 0;

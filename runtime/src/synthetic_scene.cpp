@@ -249,6 +249,7 @@ constexpr int kPlacementAttempts = 300;
 void add_room_furniture(const SyntheticSceneParams& params, SyntheticScene& s, std::mt19937_64& rng);
 void add_floor_objects(const SyntheticSceneParams& params, SyntheticScene& s, std::mt19937_64& rng,
                        std::vector<PixelRect>& rects);
+void add_shelf_objects(const SyntheticSceneParams& params, SyntheticScene& s, std::vector<PixelRect>& rects);
 std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std::mt19937_64& rng,
                                          int& placed_count);
 }  // namespace
@@ -269,9 +270,9 @@ Result<SyntheticScene> generate_scene(const SyntheticSceneParams& params) {
   if (params.side_support_objects < 0 || !(params.cut_share >= 0 && params.cut_share <= 1))
     return Error{"side support objects must not be negative, cut share within [0, 1]", {}};
   auto share = [](double x) { return x >= 0 && x <= 1; };
-  if (params.floor_objects < 0 || !share(params.chair_chance) || !share(params.shelf_chance) ||
+  if (params.floor_objects < 0 || params.shelf_objects < 0 || !share(params.chair_chance) || !share(params.shelf_chance) ||
       !share(params.touching_share) || !share(params.overhang_share) || !share(params.dark_share))
-    return Error{"floor objects must not be negative; chair and shelf chances, touching, "
+    return Error{"floor and shelf objects must not be negative; chair and shelf chances, touching, "
                  "overhang and dark shares within [0, 1]",
                  {}};
 
@@ -464,6 +465,71 @@ void add_floor_objects(const SyntheticSceneParams& params, SyntheticScene& s, st
   }
 }
 
+// The shelf's boards (thinner than wide; its side panels are not) and, for each, the
+// room above it up to the next board (infinite for the top one).
+std::vector<std::pair<std::size_t, double>> shelf_boards(const SyntheticScene& s) {
+  std::vector<std::pair<std::size_t, double>> boards;
+  for (std::size_t k = 0; k < s.furniture.size(); ++k) {
+    const SyntheticBlock& b = s.furniture[k];
+    if (b.role != SyntheticBlock::Role::shelf || !(b.size_m.z < b.size_m.x)) continue;
+    const double top = b.center.z + 0.5 * b.size_m.z;
+    double room = kInf;
+    for (const SyntheticBlock& a : s.furniture)
+      if (a.role == SyntheticBlock::Role::shelf && a.size_m.z < a.size_m.x && a.center.z > b.center.z)
+        room = std::min(room, a.center.z - 0.5 * a.size_m.z - top);
+    boards.emplace_back(k, room);
+  }
+  return boards;
+}
+
+// Objects standing on the shelf's boards: their whole footprint on the board, 3 cm
+// below the board above, their top and the front of their foot seen past the table,
+// the furniture and that board, in range and in view, clear of every other object.
+// From a stream of their own (the scene's seed mixed), so the room's other draws stay.
+void add_shelf_objects(const SyntheticSceneParams& params, SyntheticScene& s, std::vector<PixelRect>& rects) {
+  if (params.shelf_objects <= 0 || params.kinds.empty()) return;
+  const std::vector<std::pair<std::size_t, double>> boards = shelf_boards(s);
+  if (boards.empty()) return;
+  std::mt19937_64 rng(mix_seed(params.seed, 0x5e1f));
+  const double margin_px = 8, width = s.camera.width, height = s.camera.height, clearance = 0.03;
+  for (int j = 0; j < params.shelf_objects; ++j) {
+    SyntheticObject obj;
+    obj.kind = params.kinds[std::uniform_int_distribution<std::size_t>(0, params.kinds.size() - 1)(rng)];
+    obj.dimensions_m = random_dimensions(obj.kind, rng);
+    if (params.varied_cones && obj.kind == ShapeKind::cone) vary_cone(obj, rng);
+    obj.yaw_deg = uniform(rng, 0, 360);
+    obj.color = kPalette[static_cast<std::size_t>(uniform_int(rng, 0, static_cast<int>(kPalette.size()) - 1))];
+    const double f = footprint_radius(obj);
+    for (int attempt = 0; attempt < kPlacementAttempts; ++attempt) {
+      const auto& [k, room] = boards[static_cast<std::size_t>(uniform_int(rng, 0, static_cast<int>(boards.size()) - 1))];
+      const SyntheticBlock& b = s.furniture[k];
+      const double hx = 0.5 * b.size_m.x - f - 0.01, hy = 0.5 * b.size_m.y - f - 0.01;
+      if (hx <= 0 || hy <= 0 || 2 * half_height(obj) + clearance > room) continue;
+      const double top = b.center.z + 0.5 * b.size_m.z;
+      const Vec3 p{b.center.x + uniform(rng, -hx, hx), b.center.y + uniform(rng, -hy, hy), top + center_height(obj)};
+      obj.center = p;
+      bool clear = true;
+      for (const SyntheticObject& other : s.objects)
+        if (std::hypot(p.x - other.center.x, p.y - other.center.y) < f + footprint_radius(other) + 0.02 &&
+            std::abs(p.z - other.center.z) < half_height(obj) + half_height(other) + 0.02)
+          clear = false;
+      if (!clear) continue;
+      const Vec3 crown{p.x, p.y, top + 2 * half_height(obj)}, foot{p.x, p.y - f, top};
+      if (table_to_camera_point(s, p).z > 3.8 || sight_blocked(s, crown) || sight_blocked(s, foot)) continue;
+      const PixelRect r = object_rect(s, obj);
+      if (r.u0 < margin_px || r.v0 < margin_px || r.u1 > width - 1 - margin_px || r.v1 > height - 1 - margin_px)
+        continue;
+      for (const PixelRect& other : rects)
+        if (overlap_area(r, other) > params.max_view_overlap * std::min(r.area(), other.area())) clear = false;
+      if (!clear) continue;
+      obj.support = static_cast<int>(k) + 1;
+      rects.push_back(r);
+      s.objects.push_back(obj);
+      break;
+    }
+  }
+}
+
 std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std::mt19937_64& rng,
                                          int& placed_count) {
   SyntheticScene s;
@@ -621,6 +687,7 @@ std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std
   }
   placed_count = params.object_count;
   add_floor_objects(params, s, rng, rects);
+  add_shelf_objects(params, s, rects);
   // Dark objects last, so the layout is the same with or without them.
   if (params.dark_share > 0)
     for (SyntheticObject& o : s.objects)
@@ -669,6 +736,7 @@ SyntheticSceneParams room_scene_params(std::uint64_t seed) {
   p.touching_share = 0.25;
   p.overhang_share = 0.15;
   p.dark_share = 0.15;
+  p.shelf_objects = 2;
   return p;
 }
 
@@ -784,7 +852,10 @@ PhysicalScene ground_truth(const SyntheticScene& scene, const Frame* frame,
   std::vector<std::string> support_ids(scene.furniture.size() + 1, "table");
   for (std::size_t k = 0; k < scene.furniture.size(); ++k) {
     const SyntheticBlock& b = scene.furniture[k];
-    if (b.role != SyntheticBlock::Role::support) continue;
+    const bool holds = std::any_of(scene.objects.begin(), scene.objects.end(), [&](const SyntheticObject& o) {
+      return o.support == static_cast<int>(k) + 1;
+    });
+    if (b.role != SyntheticBlock::Role::support && !(b.role == SyntheticBlock::Role::shelf && holds)) continue;
     support_ids[k + 1] = "f" + std::to_string(k + 1);
     truth.supports.push_back({support_ids[k + 1], plane_at(b.center.z + b.size_m.z * 0.5), 0});
   }

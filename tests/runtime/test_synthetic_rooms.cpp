@@ -28,7 +28,8 @@ SensorNoiseParams exact() {
 SyntheticSceneParams only(std::uint64_t seed, const std::string& feature) {
   SyntheticSceneParams p = room_scene_params(seed);
   p.chair_chance = feature == "chair" ? 1 : 0;
-  p.shelf_chance = feature == "shelf" ? 1 : 0;
+  p.shelf_chance = feature == "shelf" || feature == "on-shelf" ? 1 : 0;
+  p.shelf_objects = feature == "on-shelf" ? 2 : 0;
   p.floor_objects = feature == "floor" ? 2 : 0;
   p.touching_share = feature == "touching" ? 1 : 0;
   p.overhang_share = feature == "overhang" ? 1 : 0;
@@ -63,6 +64,7 @@ TEST(SyntheticRooms, WorldScenesHaveNoRoomFeatures) {
   EXPECT_EQ(w.touching_share, 0);
   EXPECT_EQ(w.overhang_share, 0);
   EXPECT_EQ(w.dark_share, 0);
+  EXPECT_EQ(w.shelf_objects, 0);
   for (const SyntheticObject& o : room(w).objects) {
     EXPECT_GE(o.support, 0);
     EXPECT_LT(o.touching, 0);
@@ -111,6 +113,81 @@ TEST(SyntheticRooms, TwoLevelShelfAgainstTheWall) {
     EXPECT_LE(shelf[0].center.y + 0.5 * shelf[0].size_m.y, s.wall_y_m);
     EXPECT_GT(shelf[0].center.y - 0.5 * shelf[0].size_m.y, s.table_half_y_m);
   }
+}
+
+// Whether object o stands on one of the shelf's boards.
+bool on_shelf(const SyntheticScene& s, const SyntheticObject& o) {
+  return o.support > 0 && s.furniture[static_cast<std::size_t>(o.support - 1)].role == SyntheticBlock::Role::shelf;
+}
+
+TEST(SyntheticRooms, ObjectsOnShelfBoardsStandOnTheBoardInViewWithTheirSupport) {
+  int on_boards = 0, on_lower = 0;
+  for (std::uint64_t seed = 6001; seed <= 6010; ++seed) {
+    const SyntheticScene s = room(only(seed, "on-shelf"));
+    const SyntheticFrame f = render_scene(s, exact());
+    double lowest_board = 1e9;
+    for (const SyntheticBlock& b : s.furniture)
+      if (b.role == SyntheticBlock::Role::shelf && b.size_m.z < b.size_m.x) lowest_board = std::min(lowest_board, b.center.z);
+    for (std::size_t i = 0; i < s.objects.size(); ++i) {
+      const SyntheticObject& o = s.objects[i];
+      if (!on_shelf(s, o)) continue;
+      ++on_boards;
+      const SyntheticBlock& board = s.furniture[static_cast<std::size_t>(o.support - 1)];
+      ASSERT_LT(board.size_m.z, board.size_m.x) << "a board, not a side panel; seed " << seed;
+      on_lower += board.center.z == lowest_board;
+      // Its footprint on the board, its foot on the board's top.
+      EXPECT_LT(std::abs(o.center.x - board.center.x), 0.5 * board.size_m.x) << "seed " << seed;
+      EXPECT_LT(std::abs(o.center.y - board.center.y), 0.5 * board.size_m.y) << "seed " << seed;
+      // The truth's support for it: the board's top plane, listed among the supports.
+      const PhysicalObject& truth = f.truth.objects[i];
+      EXPECT_EQ(truth.support_id, "f" + std::to_string(o.support));
+      const SupportSurface* plane = nullptr;
+      for (const SupportSurface& sp : f.truth.supports)
+        if (sp.id == truth.support_id) plane = &sp;
+      ASSERT_NE(plane, nullptr) << "seed " << seed;
+      const std::vector<Vec3> pts = object_points(f, static_cast<int>(i));
+      EXPECT_GT(pts.size(), 50u) << "seed " << seed << " object " << i << " hidden";
+      double lowest = 1e9, highest = -1e9;
+      for (const Vec3& p : pts) {
+        const double h = dot(plane->plane.normal, p) + plane->plane.d;
+        lowest = std::min(lowest, h), highest = std::max(highest, h);
+      }
+      EXPECT_GT(lowest, -1e-6) << "seed " << seed;
+      // Below the board above it (the boards are 2 cm thick, at least 30 cm apart).
+      for (const SyntheticBlock& b : s.furniture)
+        if (b.role == SyntheticBlock::Role::shelf && b.size_m.z < b.size_m.x && b.center.z > board.center.z)
+          EXPECT_LT(board.center.z + 0.5 * board.size_m.z + highest, b.center.z - 0.5 * b.size_m.z) << "seed " << seed;
+    }
+  }
+  EXPECT_GE(on_boards, 10);
+  EXPECT_GE(on_lower, 2);
+}
+
+TEST(SyntheticRooms, ShelfObjectsLeaveTheRestOfTheRoomAsItWas) {
+  int added = 0;
+  for (std::uint64_t seed = 6001; seed <= 6010; ++seed) {
+    SyntheticSceneParams p = room_scene_params(seed);
+    p.shelf_chance = 1;
+    const SyntheticScene with = room(p);
+    p.shelf_objects = 0;
+    const SyntheticScene without = room(p);
+    ASSERT_GE(with.objects.size(), without.objects.size());
+    EXPECT_EQ(with.camera_position.x, without.camera_position.x);
+    EXPECT_EQ(with.furniture.size(), without.furniture.size());
+    for (std::size_t i = 0; i < with.objects.size(); ++i) {
+      if (on_shelf(with, with.objects[i])) {
+        ++added;
+        continue;
+      }
+      ASSERT_LT(i, without.objects.size());
+      EXPECT_EQ(with.objects[i].center.x, without.objects[i].center.x) << "seed " << seed;
+      EXPECT_EQ(with.objects[i].dimensions_m, without.objects[i].dimensions_m) << "seed " << seed;
+    }
+    EXPECT_EQ(with.objects.size() - without.objects.size(),
+              static_cast<std::size_t>(std::count_if(with.objects.begin(), with.objects.end(),
+                                                     [&](const SyntheticObject& o) { return on_shelf(with, o); })));
+  }
+  EXPECT_GE(added, 10);
 }
 
 TEST(SyntheticRooms, FloorObjectsStandOnTheFloorBesideTheFurnitureInView) {
@@ -219,7 +296,7 @@ TEST(SyntheticRooms, DarkObjectsLoseDepthWhereTheReturnIsWeakAndNothingElseChang
 }
 
 TEST(SyntheticRooms, FeatureSharesOutOfRangeAreErrors) {
-  for (int which = 0; which < 6; ++which) {
+  for (int which = 0; which < 7; ++which) {
     SyntheticSceneParams p = room_scene_params(6001);
     if (which == 0) p.chair_chance = 1.5;
     if (which == 1) p.shelf_chance = -0.1;
@@ -227,6 +304,7 @@ TEST(SyntheticRooms, FeatureSharesOutOfRangeAreErrors) {
     if (which == 3) p.touching_share = 2;
     if (which == 4) p.overhang_share = -1;
     if (which == 5) p.dark_share = 1.01;
+    if (which == 6) p.shelf_objects = -1;
     EXPECT_FALSE(generate_scene(p).ok()) << which;
   }
 }
@@ -234,7 +312,7 @@ TEST(SyntheticRooms, FeatureSharesOutOfRangeAreErrors) {
 // --- the scanner on a fixed set per feature ---
 
 struct FeatureFigures {
-  int objects = 0, found = 0, correct = 0, pieces_extra = 0, on_floor_support = 0;
+  int objects = 0, found = 0, correct = 0, pieces_extra = 0, on_floor_support = 0, on_own_support = 0;
   int pairs = 0, pairs_split = 0, false_chair = 0, false_shelf = 0;
 };
 
@@ -271,6 +349,7 @@ FeatureFigures scan_feature(const std::string& feature, std::uint64_t first, std
       const bool has = (feature == "floor" && o.support < 0) ||
                        (feature == "touching" && o.touching >= 0) ||
                        (feature == "overhang" && o.overhang) || (feature == "dark" && o.albedo < 1) ||
+                       (feature == "on-shelf" && on_shelf(s, o)) ||
                        feature == "chair" || feature == "shelf";
       if (!has || truth.partial || norm(truth.primitives[0].center) > reach_m) continue;
       if (feature == "touching") {
@@ -289,11 +368,17 @@ FeatureFigures scan_feature(const std::string& feature, std::uint64_t first, std
       for (const SupportSurface& sp : scan->scene.supports)
         if (sp.id == got.support_id && std::abs(sp.plane.d - f.truth.supports[1].plane.d) < 0.03)
           ++r.on_floor_support;
+      // On the support the truth gives it (the plane within 3 cm and 1 degree).
+      for (const SupportSurface& sp : scan->scene.supports)
+        for (const SupportSurface& tsp : f.truth.supports)
+          if (sp.id == got.support_id && tsp.id == truth.support_id &&
+              std::abs(sp.plane.d - tsp.plane.d) < 0.03 && dot(sp.plane.normal, tsp.plane.normal) > 0.9998)
+            ++r.on_own_support;
     }
   }
-  std::printf("%s: objects %d found %d class %d extra pieces %d on floor %d pairs %d split %d "
-              "chair props %d shelf props %d\n",
-              feature.c_str(), r.objects, r.found, r.correct, r.pieces_extra, r.on_floor_support,
+  std::printf("%s: objects %d found %d class %d extra pieces %d on floor %d on own support %d pairs %d "
+              "split %d chair props %d shelf props %d\n",
+              feature.c_str(), r.objects, r.found, r.correct, r.pieces_extra, r.on_floor_support, r.on_own_support,
               r.pairs, r.pairs_split, r.false_chair, r.false_shelf);
   return r;
 }
@@ -324,6 +409,42 @@ TEST(ScannerRooms, DarkObjectsNearTheCameraFoundAndClassed) {
   EXPECT_GE(r.objects, 6);
   EXPECT_GE(r.found * 10, r.objects * 9);
   EXPECT_GE(r.correct * 10, r.found * 9);
+}
+
+// What the scanner does now (session 8, before any tuning): 7 of 20 found, all classed
+// right, 4 of them on their board's plane; the others are missed (the board not found
+// as a support, or its objects taken with the shelf). Holds that floor.
+TEST(ScannerRooms, ObjectsOnShelfBoardsFoundOnTheirBoard) {
+  const FeatureFigures r = scan_feature("on-shelf", 6001, 6012, 4.0);
+  EXPECT_GE(r.objects, 12);
+  EXPECT_GE(r.found * 10, r.objects * 3);
+  EXPECT_GE(r.correct * 10, r.found * 9);
+  EXPECT_GE(r.on_own_support * 2, r.found);
+}
+
+// Held-out seed 5069: a frustum widening up (r 11.3 cm, h 12.5 cm) 1.13 m away whose
+// flared side the cylinder of its rim leaves unexplained (it explains 95 % of the points,
+// the frustum all); the cylinder won by the complexity margin, a fixed share of the
+// score, over some 80 independent points. The information criterion weighs them.
+TEST(ScannerRooms, BowlWhoseSideTheRimCylinderMissesIsAFrustum) {
+  const SyntheticScene s = room(world_scene_params(5069));
+  const SyntheticFrame f = render_scene(s);
+  const Result<ScanResult> scan = scan_frame(f.frame);
+  ASSERT_TRUE(scan.ok());
+  int bowls = 0;
+  for (std::size_t k = 0; k < scan->clusters.size(); ++k) {
+    const int t = majority_label(f, scan->clusters[k]);
+    if (t < 0 || !s.objects[static_cast<std::size_t>(t)].apex_down) continue;
+    const SyntheticObject& truth = s.objects[static_cast<std::size_t>(t)];
+    if (truth.dimensions_m[0] < 0.1) continue;
+    ++bowls;
+    const PhysicalObject& got = scan->scene.objects[k];
+    ASSERT_FALSE(got.primitives.empty());
+    EXPECT_EQ(got.primitives[0].kind, ShapeKind::cone);
+    EXPECT_NEAR(got.primitives[0].dimensions_m[0], truth.dimensions_m[0], 0.005);
+    EXPECT_NEAR(got.primitives[0].narrow_radius_m, truth.narrow_radius_m, 0.01);
+  }
+  EXPECT_EQ(bowls, 1);
 }
 
 TEST(ScannerRooms, ChairsAndShelvesAreNotReportedWholeAsProps) {

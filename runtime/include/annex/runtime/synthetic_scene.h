@@ -77,6 +77,10 @@ struct SyntheticSceneParams {
   // The chance of a two-level shelf (two boards on two side panels) against the wall
   // behind the table; furniture, not a prop.
   double shelf_chance = 0;
+  // Objects standing on the shelf's boards (true objects whose support is the board),
+  // in view and clear of the board above; fewer when no place is found. Drawn from a
+  // stream of their own, so the rest of the room is the same with or without them.
+  int shelf_objects = 0;
   // Objects standing on the floor beside the furniture (support "floor"), in view and
   // not hidden by the table or the furniture; fewer when no place is found.
   int floor_objects = 0;
@@ -104,7 +108,8 @@ struct SyntheticObject {
   // Cone only: radius of the narrow end (0: pointed) and whether the wide end is up.
   double narrow_radius_m = 0;
   bool apex_down = false;
-  int support = 0;       // 0 the table, k > 0 furniture[k - 1]'s top, -1 the floor
+  int support = 0;       // 0 the table, k > 0 furniture[k - 1]'s top (a second support
+                         // or a shelf board), -1 the floor
   bool cut = false;      // placed across the image border
   int touching = -1;     // index of the object it was placed touching, -1 none
   bool overhang = false; // placed across a table edge
@@ -157,7 +162,7 @@ SyntheticSceneParams world_scene_params(std::uint64_t seed);
 // to 1.1 m, a camera rolled up to 5 degrees either way, a chair and a two-level shelf
 // in half the rooms each, up to two objects on the floor beside the furniture, a
 // quarter of the table's objects touching another, a sixth across a table edge, a
-// sixth of all objects dark.
+// sixth of all objects dark, up to two objects on the shelf's boards.
 SyntheticSceneParams room_scene_params(std::uint64_t seed);
 
 // The Kinect sensor model applied while rendering.
@@ -217,7 +222,8 @@ Vec3 table_to_camera_point(const SyntheticScene& scene, Vec3 p);
 Vec3 table_to_camera_direction(const SyntheticScene& scene, Vec3 d);
 
 // Ground truth in the camera frame: the table top as support plane (and in
-// `supports`: "table", "floor", then "f1", "f2", ... for furniture tops), one object
+// `supports`: "table", "floor", then "f1", "f2", ... for furniture tops and the shelf
+// boards that hold objects, numbered by furniture index + 1), one object
 // per scene object (ids "o1", "o2", ...) with one primitive (fit 1), its support_id,
 // partial when cut by the border. A frustum is a cone with narrow_radius_m set. A box's size_x and
 // size_y run along its yawed local axes, which PhysicalPrimitive cannot express.
