@@ -270,8 +270,9 @@ Result<SyntheticScene> generate_scene(const SyntheticSceneParams& params) {
   if (params.side_support_objects < 0 || !(params.cut_share >= 0 && params.cut_share <= 1))
     return Error{"side support objects must not be negative, cut share within [0, 1]", {}};
   auto share = [](double x) { return x >= 0 && x <= 1; };
-  if (params.floor_objects < 0 || params.shelf_objects < 0 || !share(params.chair_chance) || !share(params.shelf_chance) ||
-      !share(params.touching_share) || !share(params.overhang_share) || !share(params.dark_share))
+  if (params.floor_objects < 0 || params.shelf_objects < 0 || !share(params.chair_chance) ||
+      !share(params.shelf_chance) || !share(params.touching_share) || !share(params.overhang_share) ||
+      !share(params.dark_share))
     return Error{"floor and shelf objects must not be negative; chair and shelf chances, touching, "
                  "overhang and dark shares within [0, 1]",
                  {}};

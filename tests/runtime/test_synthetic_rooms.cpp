@@ -1,5 +1,6 @@
-// The held-out room generator's features (room_scene_params: chairs, two-level shelves,
-// objects on the floor, touching pairs, objects across a table edge, dark objects):
+// The held-out room generator's features (room_scene_params: chairs, two-level shelves
+// and objects on their boards, objects on the floor, touching pairs, objects across a
+// table edge, dark objects):
 // their ground truth against the rendered pixels, then a fixed set of seeded rooms per
 // feature with what the scanner does on them now (docs/perception.md has the figures).
 #include <gtest/gtest.h>
