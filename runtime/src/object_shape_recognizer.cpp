@@ -1230,12 +1230,10 @@ double independent_points(const Samples& s) {
   return n;
 }
 
-// The saturated candidate (coverage >= `saturated`) with the least BIC over n independent
-// points, n (1 - evidence) tol^2 / sigma^2 + k ln n: (1 - evidence) tol^2 is their mean
-// truncated squared residual, sigma the noise, estimated by the smallest RMS among the
-// saturated candidates (an upper bound of it). -1 when none is saturated.
-int saturated_choice(const std::vector<SelectionEntry>& entries, double n, double mean_tol2,
-                     double saturated) {
+// The least criterion among the entries (the saturated ones alone when
+// `saturated_only`), sigma the smallest RMS among the saturated; -1 when none is.
+int least_criterion(const std::vector<SelectionEntry>& entries, double n, double mean_tol2,
+                    double saturated, bool saturated_only) {
   double sigma = 1e9;
   for (const SelectionEntry& e : entries)
     if (e.coverage >= saturated && e.rms_m > 0) sigma = std::min(sigma, e.rms_m);
@@ -1245,7 +1243,7 @@ int saturated_choice(const std::vector<SelectionEntry>& entries, double n, doubl
   double least = 1e300;
   for (size_t i = 0; i < entries.size(); ++i) {
     const SelectionEntry& e = entries[i];
-    if (e.coverage < saturated) continue;
+    if (saturated_only && e.coverage < saturated) continue;
     const double bic = n * std::max(0.0, 1 - e.evidence) * mean_tol2 / (sigma * sigma) +
                        e.parameters * std::log(std::max(n, 2.0));
     if (bic < least) {
@@ -1254,6 +1252,15 @@ int saturated_choice(const std::vector<SelectionEntry>& entries, double n, doubl
     }
   }
   return pick;
+}
+
+// The saturated candidate (coverage >= `saturated`) with the least BIC over n independent
+// points, n (1 - evidence) tol^2 / sigma^2 + k ln n: (1 - evidence) tol^2 is their mean
+// truncated squared residual, sigma the noise, estimated by the smallest RMS among the
+// saturated candidates (an upper bound of it). -1 when none is saturated.
+int saturated_choice(const std::vector<SelectionEntry>& entries, double n, double mean_tol2,
+                     double saturated) {
+  return least_criterion(entries, n, mean_tol2, saturated, true);
 }
 
 // The best candidate by rank leaves points unexplained, and a candidate that paid the
@@ -1268,23 +1275,7 @@ int saturated_choice(const std::vector<SelectionEntry>& entries, double n, doubl
 // into entries of the least criterion.
 int margin_paid_choice(const std::vector<SelectionEntry>& entries, double n, double mean_tol2,
                        double saturated) {
-  double sigma = 1e9;
-  for (const SelectionEntry& e : entries)
-    if (e.coverage >= saturated && e.rms_m > 0) sigma = std::min(sigma, e.rms_m);
-  if (sigma >= 1e9 || n <= 0) return 0;
-  sigma = std::max(sigma, 1e-4);
-  int pick = 0;
-  double least = 1e300;
-  for (size_t i = 0; i < entries.size(); ++i) {
-    const SelectionEntry& e = entries[i];
-    const double bic = n * std::max(0.0, 1 - e.evidence) * mean_tol2 / (sigma * sigma) +
-                       e.parameters * std::log(std::max(n, 2.0));
-    if (bic < least) {
-      least = bic;
-      pick = static_cast<int>(i);
-    }
-  }
-  return pick;
+  return std::max(0, least_criterion(entries, n, mean_tol2, saturated, false));
 }
 
 // A round top with nothing seen below its rim where an upright cylinder's side would

@@ -12,6 +12,7 @@
 #include "annex/runtime/plane_candidates.h"
 
 #include "annex/runtime/object_segmenter.h"
+#include "dropout_join.h"
 #include "occlusion_join.h"
 #include "scan_pool.h"
 #include "stacking.h"
@@ -1455,7 +1456,10 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     return std::max(params.min_cluster_points_far,
                     static_cast<int>(params.min_cluster_points / std::max(1.0, z * z)));
   };
-  const std::vector<std::vector<int>> grids = grow_clusters(f, mask, seeds, stride, params);
+  // A dark object's fragments, parted by its missing depth, joined (dropout_join.h).
+  const std::vector<std::vector<int>> grids = join_dropout_fragments(
+      f, mask, grow_clusters(f, mask, seeds, stride, params), stride,
+      [&](double z) { return cluster_tolerance(params, z); }, least_points);
   // Which supports hold something: a cluster big enough to be an object stands on them
   // (selected or not: the choice of supports does not change what furniture is).
   std::vector<char> holds(ns, 0);

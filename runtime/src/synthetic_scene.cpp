@@ -270,8 +270,9 @@ Result<SyntheticScene> generate_scene(const SyntheticSceneParams& params) {
   if (params.side_support_objects < 0 || !(params.cut_share >= 0 && params.cut_share <= 1))
     return Error{"side support objects must not be negative, cut share within [0, 1]", {}};
   auto share = [](double x) { return x >= 0 && x <= 1; };
-  if (params.floor_objects < 0 || params.shelf_objects < 0 || !share(params.chair_chance) || !share(params.shelf_chance) ||
-      !share(params.touching_share) || !share(params.overhang_share) || !share(params.dark_share))
+  if (params.floor_objects < 0 || params.shelf_objects < 0 || !share(params.chair_chance) ||
+      !share(params.shelf_chance) || !share(params.touching_share) || !share(params.overhang_share) ||
+      !share(params.dark_share))
     return Error{"floor and shelf objects must not be negative; chair and shelf chances, touching, "
                  "overhang and dark shares within [0, 1]",
                  {}};
@@ -408,6 +409,30 @@ void add_room_furniture(const SyntheticSceneParams& params, SyntheticScene& s, s
   }
 }
 
+// An object of a random kind and size, yaw and colour, for a place beside the table's
+// (the floor, a shelf board); its caller places it.
+SyntheticObject random_object_beside(const SyntheticSceneParams& params, std::mt19937_64& rng) {
+  SyntheticObject obj;
+  obj.kind = params.kinds[std::uniform_int_distribution<std::size_t>(0, params.kinds.size() - 1)(rng)];
+  obj.dimensions_m = random_dimensions(obj.kind, rng);
+  if (params.varied_cones && obj.kind == ShapeKind::cone) vary_cone(obj, rng);
+  obj.yaw_deg = uniform(rng, 0, 360);
+  obj.color = kPalette[static_cast<std::size_t>(uniform_int(rng, 0, static_cast<int>(kPalette.size()) - 1))];
+  return obj;
+}
+
+// Whether an image box lies inside the view, 8 pixels from its border, and overlaps no
+// placed object's box by more than max_overlap of the smaller.
+bool whole_in_view(const SyntheticScene& s, const PixelRect& r, const std::vector<PixelRect>& rects,
+                   double max_overlap) {
+  const double margin_px = 8, width = s.camera.width, height = s.camera.height;
+  if (r.u0 < margin_px || r.v0 < margin_px || r.u1 > width - 1 - margin_px || r.v1 > height - 1 - margin_px)
+    return false;
+  for (const PixelRect& other : rects)
+    if (overlap_area(r, other) > max_overlap * std::min(r.area(), other.area())) return false;
+  return true;
+}
+
 // Objects standing on the floor beside a piece of furniture (or the table), in view,
 // seen over the table and furniture, clear of everything; skipped when no place is found.
 void add_floor_objects(const SyntheticSceneParams& params, SyntheticScene& s, std::mt19937_64& rng,
@@ -419,14 +444,8 @@ void add_floor_objects(const SyntheticSceneParams& params, SyntheticScene& s, st
       anchors_center.push_back(b.center);
       anchors_half.push_back(b.size_m * 0.5);
     }
-  const double margin_px = 8, width = s.camera.width, height = s.camera.height;
   for (int j = 0; j < params.floor_objects; ++j) {
-    SyntheticObject obj;
-    obj.kind = params.kinds[std::uniform_int_distribution<std::size_t>(0, params.kinds.size() - 1)(rng)];
-    obj.dimensions_m = random_dimensions(obj.kind, rng);
-    if (params.varied_cones && obj.kind == ShapeKind::cone) vary_cone(obj, rng);
-    obj.yaw_deg = uniform(rng, 0, 360);
-    obj.color = kPalette[static_cast<std::size_t>(uniform_int(rng, 0, static_cast<int>(kPalette.size()) - 1))];
+    SyntheticObject obj = random_object_beside(params, rng);
     obj.support = -1;
     const double f = footprint_radius(obj);
     for (int attempt = 0; attempt < kPlacementAttempts; ++attempt) {
@@ -453,11 +472,7 @@ void add_floor_objects(const SyntheticSceneParams& params, SyntheticScene& s, st
       const Vec3 top = p + Vec3{0, 0, half_height(obj)};
       if (table_to_camera_point(s, p).z > 3.8 || sight_blocked(s, top) || sight_blocked(s, p)) continue;
       const PixelRect r = object_rect(s, obj);
-      if (r.u0 < margin_px || r.v0 < margin_px || r.u1 > width - 1 - margin_px || r.v1 > height - 1 - margin_px)
-        continue;
-      for (const PixelRect& other : rects)
-        if (overlap_area(r, other) > params.max_view_overlap * std::min(r.area(), other.area())) clear = false;
-      if (!clear) continue;
+      if (!whole_in_view(s, r, rects, params.max_view_overlap)) continue;
       rects.push_back(r);
       s.objects.push_back(obj);
       break;
@@ -491,14 +506,9 @@ void add_shelf_objects(const SyntheticSceneParams& params, SyntheticScene& s, st
   const std::vector<std::pair<std::size_t, double>> boards = shelf_boards(s);
   if (boards.empty()) return;
   std::mt19937_64 rng(mix_seed(params.seed, 0x5e1f));
-  const double margin_px = 8, width = s.camera.width, height = s.camera.height, clearance = 0.03;
+  const double clearance = 0.03;
   for (int j = 0; j < params.shelf_objects; ++j) {
-    SyntheticObject obj;
-    obj.kind = params.kinds[std::uniform_int_distribution<std::size_t>(0, params.kinds.size() - 1)(rng)];
-    obj.dimensions_m = random_dimensions(obj.kind, rng);
-    if (params.varied_cones && obj.kind == ShapeKind::cone) vary_cone(obj, rng);
-    obj.yaw_deg = uniform(rng, 0, 360);
-    obj.color = kPalette[static_cast<std::size_t>(uniform_int(rng, 0, static_cast<int>(kPalette.size()) - 1))];
+    SyntheticObject obj = random_object_beside(params, rng);
     const double f = footprint_radius(obj);
     for (int attempt = 0; attempt < kPlacementAttempts; ++attempt) {
       const auto& [k, room] = boards[static_cast<std::size_t>(uniform_int(rng, 0, static_cast<int>(boards.size()) - 1))];
@@ -517,11 +527,7 @@ void add_shelf_objects(const SyntheticSceneParams& params, SyntheticScene& s, st
       const Vec3 crown{p.x, p.y, top + 2 * half_height(obj)}, foot{p.x, p.y - f, top};
       if (table_to_camera_point(s, p).z > 3.8 || sight_blocked(s, crown) || sight_blocked(s, foot)) continue;
       const PixelRect r = object_rect(s, obj);
-      if (r.u0 < margin_px || r.v0 < margin_px || r.u1 > width - 1 - margin_px || r.v1 > height - 1 - margin_px)
-        continue;
-      for (const PixelRect& other : rects)
-        if (overlap_area(r, other) > params.max_view_overlap * std::min(r.area(), other.area())) clear = false;
-      if (!clear) continue;
+      if (!whole_in_view(s, r, rects, params.max_view_overlap)) continue;
       obj.support = static_cast<int>(k) + 1;
       rects.push_back(r);
       s.objects.push_back(obj);

@@ -1,5 +1,6 @@
-// The held-out room generator's features (room_scene_params: chairs, two-level shelves,
-// objects on the floor, touching pairs, objects across a table edge, dark objects):
+// The held-out room generator's features (room_scene_params: chairs, two-level shelves
+// and objects on their boards, objects on the floor, touching pairs, objects across a
+// table edge, dark objects):
 // their ground truth against the rendered pixels, then a fixed set of seeded rooms per
 // feature with what the scanner does on them now (docs/perception.md has the figures).
 #include <gtest/gtest.h>
@@ -319,7 +320,7 @@ struct FeatureFigures {
 // The scanner on rooms `first`..`last` with `feature` alone, counting the objects
 // within `reach_m` that have the feature (all objects when `feature` is furniture).
 FeatureFigures scan_feature(const std::string& feature, std::uint64_t first, std::uint64_t last,
-                            double reach_m) {
+                            double reach_m, double near_m = 0) {
   FeatureFigures r;
   for (std::uint64_t seed = first; seed <= last; ++seed) {
     const SyntheticScene s = room(only(seed, feature));
@@ -351,7 +352,8 @@ FeatureFigures scan_feature(const std::string& feature, std::uint64_t first, std
                        (feature == "overhang" && o.overhang) || (feature == "dark" && o.albedo < 1) ||
                        (feature == "on-shelf" && on_shelf(s, o)) ||
                        feature == "chair" || feature == "shelf";
-      if (!has || truth.partial || norm(truth.primitives[0].center) > reach_m) continue;
+      const double range = norm(truth.primitives[0].center);
+      if (!has || truth.partial || range > reach_m || range < near_m) continue;
       if (feature == "touching") {
         const auto j = static_cast<std::size_t>(o.touching);
         if (!f.truth.objects[j].partial) {
@@ -425,7 +427,7 @@ TEST(ScannerRooms, ObjectsOnShelfBoardsFoundOnTheirBoard) {
 // Held-out seed 5069: a frustum widening up (r 11.3 cm, h 12.5 cm) 1.13 m away whose
 // flared side the cylinder of its rim leaves unexplained (it explains 95 % of the points,
 // the frustum all); the cylinder won by the complexity margin, a fixed share of the
-// score, over some 80 independent points. The information criterion weighs them.
+// score whatever the number of points. The information criterion weighs them.
 TEST(ScannerRooms, BowlWhoseSideTheRimCylinderMissesIsAFrustum) {
   const SyntheticScene s = room(world_scene_params(5069));
   const SyntheticFrame f = render_scene(s);
@@ -445,6 +447,16 @@ TEST(ScannerRooms, BowlWhoseSideTheRimCylinderMissesIsAFrustum) {
     EXPECT_NEAR(got.primitives[0].narrow_radius_m, truth.narrow_radius_m, 0.01);
   }
   EXPECT_EQ(bowls, 1);
+}
+
+// Dark objects 1.5 to 2.5 m away keep a scatter of pixels facing the camera; the
+// clustering joins the fragments their missing depth parts (dropout_join.h). Session 8:
+// 50 of 66 found (46 without the join), 41 classed right.
+TEST(ScannerRooms, DarkObjectsInTheMiddleBandFoundFromThePointsThatAreThere) {
+  const FeatureFigures r = scan_feature("dark", 6001, 6030, 2.5, 1.5);
+  EXPECT_GE(r.objects, 60);
+  EXPECT_GE(r.found * 100, r.objects * 72);
+  EXPECT_GE(r.correct * 10, r.found * 8);
 }
 
 TEST(ScannerRooms, ChairsAndShelvesAreNotReportedWholeAsProps) {
