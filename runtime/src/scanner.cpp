@@ -13,6 +13,7 @@
 
 #include "annex/runtime/object_segmenter.h"
 #include "dropout_join.h"
+#include "furniture_rules.h"
 #include "occlusion_join.h"
 #include "scan_pool.h"
 #include "stacking.h"
@@ -28,6 +29,7 @@
 #include <deque>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <random>
 
 #include "annex/runtime/params_validation.h"
@@ -1400,7 +1402,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   };
   std::vector<Candidate> clusters;
   // Which support's surface each strided pixel is (-1: none), and the pixels of
-  // clusters whose top a nearer support hides.
+  // clusters whose extent no one sees (a nearer support or object hides their top, or
+  // they are one upright face).
   std::vector<int> surface_of(f.points.size(), -1);
   for (size_t k = 0; k < ns; ++k)
     for (int i : found[k].regions.members) surface_of[static_cast<size_t>(i)] = static_cast<int>(k);
@@ -1409,6 +1412,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   // camera, lies just above the cluster's top in most of its image columns, or -1.
   // A support seen from above always appears above in the image what stands under it
   // and behind its front edge; a few grid rows of look-up span the support's edge.
+  // At most this many grid rows up (a 6 cm edge 35 cm from the camera, the Kinect's
+  // nearest range, spans 45 image rows).
+  constexpr int kEdgeRows = 24;
   auto hidden_under = [&](const std::vector<int>& grid, int k) {
     const PlaneFit& own = found[static_cast<size_t>(k)].plane;
     std::map<int, int> top;  // grid column -> topmost pixel of the cluster
@@ -1419,10 +1425,15 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     std::map<int, int> votes;
     for (const auto& [col, i] : top) {
       const double z = f.points[i].z;
-      for (int r = 1; r <= 6; ++r) {
+      // The first pixel of the support's front edge above the cluster, once seen: the
+      // look-up spans six grid rows, or the edge's thickness (support_edge_m) where it
+      // covers more rows (a table's edge 60 cm from the camera spans ten).
+      std::optional<Vec3> edge;
+      for (int r = 1; r <= kEdgeRows; ++r) {
         const int j = i - r * stride * f.width;
         if (j < 0) break;
         if (!valid(f.points[j])) continue;
+        if (r > 6 && (!edge || norm(to_vec(f.points[j]) - *edge) > params.support_edge_m)) break;
         int o = surface_of[static_cast<size_t>(j)];
         if (o < 0) {
           // Not in a support's region, yet on a higher support's plane (a table top
@@ -1437,6 +1448,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
           // The support's front edge (its thickness) is no support pixel: look on
           // past pixels as near as the support would be, stop at anything behind.
           if (f.points[j].z > z + cluster_tolerance(params, z)) break;
+          if (!edge) edge = to_vec(f.points[j]);
           continue;
         }
         const PlaneFit& sup = found[static_cast<size_t>(o)].plane;
@@ -1469,7 +1481,10 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   // The clusters kept as objects' candidates, split below.
   struct Accepted {
     const std::vector<int>* grid = nullptr;
-    int support = 0, min_points = 0, over = -1;
+    int support = 0, min_points = 0;
+    // Its top hidden under a nearer support or object, or it is one upright face: no
+    // one sees where it ends (partial).
+    bool unseen = false;
   };
   std::vector<Accepted> accepted;
   for (const std::vector<int>& grid : grids) {
@@ -1493,6 +1508,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     }
     const double width = x_hi - x_lo;
     if (params.drop_cut_clusters && continues_above(f, grid, stride, plane, params)) continue;
+    // Furniture cut by the height band: it reaches down to its support and its top is
+    // the band's top, its front running on above it, across most of its width.
+    if (bottom_h < 0.5 * top_h &&
+        top_cut_by_band(f, grid, stride, plane.n, plane.d, params,
+                        [&](double z) { return cluster_tolerance(params, z); }))
+      continue;
     // The body of a support above its own (a cabinet or a shelf under its top, a box
     // whose top is the support): where the cluster reaches that support's height, its
     // pixels are mostly that support's surface, and the surface is a visible share of
@@ -1560,7 +1581,16 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     // the others are flagged partial, since no one sees where they end.
     const int over = hidden_under(grid, k);
     if (over >= 0 && width < params.under_width_share * top_h) continue;
-    accepted.push_back({&grid, k, min_points, over});
+    // Its top hidden by anything nearer (a shelf's board, a seat, a nearer object): no
+    // one sees where it ends either, so it is flagged partial too.
+    const auto tolerance = [&](double z) { return cluster_tolerance(params, z); };
+    const bool top_hidden = over >= 0 || (params.partial_when_top_hidden &&
+                                          top_occluded(f, grid, stride, tolerance));
+    // One upright flat face whose foot is not on its support (a chair's back rising
+    // behind the table, a cabinet's side): neither its depth nor its foot is seen.
+    const bool panel = upright_panel(f, grid, plane.n, params) &&
+                       foot_unseen(f, grid, stride, surface_of, k);
+    accepted.push_back({&grid, k, min_points, top_hidden || panel});
   }
   // Touching objects apart at the creases and depth steps between them, each cluster
   // on a worker thread (they are independent; the parts are kept in cluster order). The
@@ -1584,7 +1614,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
       if (static_cast<int>(full.size()) < accepted[a].min_points ||
           static_cast<int>(full.size()) > params.max_cluster_points)
         continue;
-      if (accepted[a].over >= 0)
+      if (accepted[a].unseen)
         for (int i : full) hidden[static_cast<size_t>(i)] = 1;
       clusters.push_back({std::move(full), accepted[a].support});
     }

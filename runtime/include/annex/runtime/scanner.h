@@ -77,6 +77,30 @@ struct ScanParams {
   // across the view than this share of that height is a leg or a pole, not a prop: a
   // free-standing thing that slim tips over past atan(ratio) (0.15: 8.5 degrees).
   double min_stand_ratio = 0.15;
+  // A cluster reaching down to its support whose top is the height band's top in at
+  // least this share of its image columns, its surface running on above the band there,
+  // is furniture cut by the band (a wardrobe, a cupboard, a chair's back), not a prop:
+  // a prop's top ends inside the band and the wall behind it is a depth step away. Half:
+  // a cut front continues in nearly every column (depth noise and dropout lose some),
+  // a prop's top meets the band's top in none. 0 turns the rule off.
+  double cut_top_share = 0.5;
+  // A support's front edge (a table top's, a shelf board's thickness) is at most this
+  // thick: under a nearer support, the look-up from a cluster's top for that support's
+  // surface runs on across edge pixels this far (tops are 2 to 5 cm thick; at 60 cm the
+  // Kinect sees a 3 cm edge in ten grid rows, more than the six looked up before).
+  double support_edge_m = 0.06;
+  // A cluster whose top, in most of its columns, meets something nearer to the camera
+  // (a shelf's board, a seat, a nearer object) is flagged partial: no one sees where it
+  // ends (the wall under a shelf's board is no prop). false: only a nearer support's
+  // surface hides a top (the rule before session 8).
+  bool partial_when_top_hidden = true;
+  // A cluster that is one upright flat face, spread along its normal by at most this
+  // many times the Kinect's axial noise at its depth, whose lower end something nearer
+  // hides, is flagged partial: a chair's back or a cabinet's side rising behind the
+  // table, whose depth and foot no one sees (a flat face spreads by the noise alone, 1.0
+  // to 1.2 times; a box 10 cm deep seen from above, 1 m away, 8 times). A face whose foot
+  // is seen stays whole (a laptop's lid, a box seen face-on from afar). 0: off.
+  double panel_noise_factor = 2.0;
   int pixel_stride = 2;             // plane search works on every n-th pixel
   // The hull of the support's visible part is extended to the camera's foot on the
   // plane (objects in front of the visible floor hide the floor under them).

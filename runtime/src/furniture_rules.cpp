@@ -1,0 +1,130 @@
+// Furniture and room surfaces told from props (furniture_rules.h).
+#include "furniture_rules.h"
+
+#include "annex/runtime/object_shape_recognizer.h"
+#include "smallest_eigenvector.h"
+
+#include <cmath>
+#include <map>
+
+namespace annex {
+namespace {
+
+bool valid(const PointXYZRGB& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && p.z > 0;
+}
+
+Vec3 at(const Frame& f, int i) {
+  const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
+  return {p.x, p.y, p.z};
+}
+
+// Image column -> the cluster's topmost (`top`) or lowest grid pixel in it.
+std::map<int, int> end_per_column(const Frame& f, const std::vector<int>& grid, bool top) {
+  std::map<int, int> ends;
+  for (int i : grid) {
+    auto [it, fresh] = ends.try_emplace(i % f.width, i);
+    if (!fresh && (top ? i < it->second : i > it->second)) it->second = i;
+  }
+  return ends;
+}
+
+}  // namespace
+
+bool top_cut_by_band(const Frame& f, const std::vector<int>& grid, int step, Vec3 n, double d,
+                     const ScanParams& params, const ToleranceAt& tolerance) {
+  if (params.cut_top_share <= 0) return false;
+  const std::map<int, int> top = end_per_column(f, grid, true);
+  // Too few columns to tell a cut front from noise.
+  if (top.size() < 3) return false;
+  const int row = step * f.width;
+  size_t cut = 0;
+  for (const auto& [col, i] : top) {
+    const Vec3 p = at(f, i);
+    const double tol = tolerance(p.z);
+    // The row spacing on the cluster's own surface, from the pixel below: a front seen
+    // at a grazing angle from above spaces its rows wider than the depth noise.
+    const int b = i + row;
+    double spacing = 0;
+    if (b < static_cast<int>(f.points.size()) && valid(f.points[static_cast<size_t>(b)]))
+      spacing = norm(p - at(f, b));
+    for (int r = 1; r <= 2; ++r) {
+      const int j = i - r * row;
+      if (j < 0) break;
+      if (!valid(f.points[static_cast<size_t>(j)])) continue;  // a dropout: look one row on
+      const Vec3 q = at(f, j);
+      // Still in the band yet not the cluster's: the cluster ends here, the band does not.
+      if (dot(n, q) + d <= params.max_height_m) break;
+      // No depth step: the surface runs on (at most the rows' spacing, widened by half
+      // for the noise, plus two tolerances); a prop's top meets what is behind it.
+      cut += norm(q - p) <= r * (1.5 * std::min(spacing, 3 * tol) + 2 * tol);
+      break;
+    }
+  }
+  return static_cast<double>(cut) >= params.cut_top_share * static_cast<double>(top.size());
+}
+
+bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
+                  const ToleranceAt& tolerance) {
+  const std::map<int, int> ends = end_per_column(f, grid, true);
+  if (ends.size() < 3) return false;
+  const int row = step * f.width;
+  size_t hidden = 0;
+  for (const auto& [col, i] : ends) {
+    const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
+    for (int r = 1; r <= 3; ++r) {
+      const int j = i - r * row;
+      if (j < 0) break;
+      const PointXYZRGB& q = f.points[static_cast<size_t>(j)];
+      if (!valid(q)) continue;
+      hidden += q.z < p.z - tolerance(p.z);
+      break;
+    }
+  }
+  return 2 * hidden > ends.size();
+}
+
+bool upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up, const ScanParams& params) {
+  if (params.panel_noise_factor <= 0 || grid.size() < 10) return false;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int i : grid) {
+    const Vec3 p = at(f, i);
+    mean += Eigen::Vector3d(p.x, p.y, p.z);
+  }
+  mean /= static_cast<double>(grid.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (int i : grid) {
+    const Vec3 p = at(f, i);
+    const Eigen::Vector3d q = Eigen::Vector3d(p.x, p.y, p.z) - mean;
+    cov += q * q.transpose();
+  }
+  cov /= static_cast<double>(grid.size());
+  const Eigen::Vector3d n = smallest_eigenvector(cov);
+  // Upright: the face's normal within 30 degrees of horizontal (sin 30 = 0.5).
+  if (std::abs(n.x() * up.x + n.y() * up.y + n.z() * up.z) > 0.5) return false;
+  const double spread = std::sqrt(std::max(0.0, n.dot(cov * n)));
+  return spread <= params.panel_noise_factor * kinect_sigma_z(mean.z());
+}
+
+bool foot_unseen(const Frame& f, const std::vector<int>& grid, int step,
+                 const std::vector<int>& surface_of, int support) {
+  const std::map<int, int> ends = end_per_column(f, grid, false);
+  if (ends.size() < 3) return false;
+  const int row = step * f.width;
+  const int count = static_cast<int>(f.points.size());
+  size_t unseen = 0, looked = 0;
+  for (const auto& [col, i] : ends) {
+    for (int r = 1; r <= 3; ++r) {
+      const int j = i + r * row;
+      if (j >= count) break;
+      if (!valid(f.points[static_cast<size_t>(j)])) continue;
+      ++looked;
+      unseen += surface_of[static_cast<size_t>(j)] != support;
+      break;
+    }
+  }
+  // Columns at the image's bottom show nothing below: they count for neither.
+  return looked >= 3 && 2 * unseen > looked;
+}
+
+}  // namespace annex

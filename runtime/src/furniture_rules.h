@@ -1,0 +1,61 @@
+#pragma once
+// Rules that tell furniture and room surfaces from props, on a cluster of the scan's
+// strided grid before its shape is fitted (docs/perception.md, "Every support
+// surface"). Private to the scanner: scan_frame calls them after the leg, body and
+// under-support rules. Each takes the cluster's grid pixels (full-resolution indices,
+// every `step`-th pixel), its support's plane (n . p + d = height above it) and the
+// cluster tolerance at a depth (it widens with the Kinect's noise).
+
+#include <functional>
+#include <vector>
+
+#include "annex/common/geometry.h"
+#include "annex/runtime/frame.h"
+#include "annex/runtime/scanner.h"
+
+namespace annex {
+
+using ToleranceAt = std::function<double(double z)>;
+
+// Whether the cluster's top is the height band's top across most of its width: in at
+// least params.cut_top_share of its grid columns, the topmost pixel's neighbour one or
+// two grid rows up lies above max_height_m and continues its surface with no depth step
+// (no farther from it than the rows below are spaced, plus the noise). A prop's top ends
+// below the band (the wall behind it is a step away); a wardrobe's or a chair back's
+// front runs on, row after row, wherever the band cuts it. Counted per column, so a wide
+// front whose rows are spaced 2 to 5 cm apart by a steep view and the noise is not
+// missed because its top edge is short against its area (continues_above asks for joins
+// in a fiftieth of the cluster's pixels, and joins only within the tolerance).
+bool top_cut_by_band(const Frame& f, const std::vector<int>& grid, int step, Vec3 n, double d,
+                     const ScanParams& params, const ToleranceAt& tolerance);
+
+// Whether something nearer hides the cluster's top: in more than half of its grid
+// columns the first valid pixel one to three grid rows above its topmost pixel is nearer
+// to the camera than that pixel by more than the tolerance (a shelf's board, a seat, a
+// nearer object). No one sees where such a cluster ends: the wall under a shelf's
+// board, a bin under a seat. A prop seen whole has its top against what lies behind
+// it, or against nothing.
+bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
+                  const ToleranceAt& tolerance);
+
+// Whether the cluster's foot is not seen on its support: in more than half of the grid
+// columns that show anything below its lowest pixel, the first valid pixel one to three
+// grid rows below is no point of its support's surface region (`surface_of`: the
+// support index of each pixel of a support's region, -1 none). What stands on a support
+// has that surface at its foot; a chair's back behind the table runs on down past the
+// table's far edge (its points there lie on the table's plane but face sideways, so
+// they are no part of the table's region), or a nearer thing hides its foot.
+bool foot_unseen(const Frame& f, const std::vector<int>& grid, int step,
+                 const std::vector<int>& surface_of, int support);
+
+// Whether the cluster is one upright flat face: its points' spread along their
+// least-spread direction is at most params.panel_noise_factor times the Kinect's axial
+// noise at their mean depth, and that direction lies within 30 degrees of horizontal
+// (an upright face). A solid seen from above its top (every camera here is: a support
+// is seen from above) shows its top or its curve, which spreads it well past the noise
+// (a box 10 cm deep 1 m away: 8 times). One face alone is no evidence against a prop
+// (a laptop's lid, a box seen face-on from afar); with its foot unseen (foot_unseen) it
+// is a chair's back or a cabinet's side rising behind the table: flagged partial.
+bool upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up, const ScanParams& params);
+
+}  // namespace annex
