@@ -31,13 +31,17 @@ struct Seen {
   int found = 0;  // truth objects, not cut by the border, that some scanned object shows
 };
 
-// `rooms`: room_scene_params (the held-out rooms), else world_scene_params.
+// `rooms`: room_scene_params (the held-out rooms) without the objects on the shelf's
+// boards, as the rooms were when these cases were found; else world_scene_params. With
+// those objects, the wall's slice in rooms 5073 and 7014 is no longer what the cut-top
+// rule takes, and only the partial rules catch it (the bench's rooms figures count it).
 Seen scan_seeds(const std::vector<std::uint64_t>& seeds, bool rooms, int label,
                 const ScanParams& params) {
   Seen seen;
   for (std::uint64_t seed : seeds) {
-    const Result<SyntheticScene> scene =
-        generate_scene(rooms ? room_scene_params(seed) : world_scene_params(seed));
+    SyntheticSceneParams scene_params = rooms ? room_scene_params(seed) : world_scene_params(seed);
+    if (rooms) scene_params.shelf_objects = 0;
+    const Result<SyntheticScene> scene = generate_scene(scene_params);
     EXPECT_TRUE(scene.ok()) << "seed " << seed;
     if (!scene) continue;
     const SyntheticFrame f = render_scene(*scene);
