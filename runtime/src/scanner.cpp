@@ -1468,10 +1468,11 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     return std::max(params.min_cluster_points_far,
                     static_cast<int>(params.min_cluster_points / std::max(1.0, z * z)));
   };
+  // The clustering tolerance at a depth, for the rules that compare depths.
+  const auto tolerance = [&](double z) { return cluster_tolerance(params, z); };
   // A dark object's fragments, parted by its missing depth, joined (dropout_join.h).
   const std::vector<std::vector<int>> grids = join_dropout_fragments(
-      f, mask, grow_clusters(f, mask, seeds, stride, params), stride,
-      [&](double z) { return cluster_tolerance(params, z); }, least_points);
+      f, mask, grow_clusters(f, mask, seeds, stride, params), stride, tolerance, least_points);
   // Which supports hold something: a cluster big enough to be an object stands on them
   // (selected or not: the choice of supports does not change what furniture is).
   std::vector<char> holds(ns, 0);
@@ -1507,12 +1508,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
       bottom_h = std::min(bottom_h, h);
     }
     const double width = x_hi - x_lo;
+    // It spans down to its support: its lower half is seen.
+    const bool reaches_support = bottom_h < 0.5 * top_h;
     if (params.drop_cut_clusters && continues_above(f, grid, stride, plane, params)) continue;
     // Furniture cut by the height band: it reaches down to its support and its top is
     // the band's top, its front running on above it, across most of its width.
-    if (bottom_h < 0.5 * top_h &&
-        top_cut_by_band(f, grid, stride, plane.n, plane.d, params,
-                        [&](double z) { return cluster_tolerance(params, z); }))
+    if (reaches_support && top_cut_by_band(f, grid, stride, plane.n, plane.d, params, tolerance))
       continue;
     // The body of a support above its own (a cabinet or a shelf under its top, a box
     // whose top is the support): where the cluster reaches that support's height, its
@@ -1574,7 +1575,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     // above the support stands on something else there (an object on a cabinet whose
     // top is no support found, cut by the image border).
     if (top_h >= params.furniture_min_height_m && width < params.min_stand_ratio * top_h &&
-        bottom_h < 0.5 * top_h)
+        reaches_support)
       continue;
     // Its top hidden under a nearer, higher support: a leg whose top meets the table's
     // underside, the wall or a bin seen under the table. Thin ones are legs (dropped);
@@ -1583,7 +1584,6 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     if (over >= 0 && width < params.under_width_share * top_h) continue;
     // Its top hidden by anything nearer (a shelf's board, a seat, a nearer object): no
     // one sees where it ends either, so it is flagged partial too.
-    const auto tolerance = [&](double z) { return cluster_tolerance(params, z); };
     const bool top_hidden = over >= 0 || (params.partial_when_top_hidden &&
                                           top_occluded(f, grid, stride, tolerance));
     // One upright flat face whose foot is not on its support (a chair's back rising
