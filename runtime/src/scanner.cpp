@@ -31,6 +31,7 @@
 #include <numeric>
 #include <optional>
 #include <random>
+#include <span>
 
 #include "annex/runtime/params_validation.h"
 
@@ -1487,8 +1488,19 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     // one sees where it ends (partial).
     bool unseen = false;
   };
-  std::vector<Accepted> accepted;
-  for (const std::vector<int>& grid : grids) {
+  // Each grid's tests and then its split (below) run as one item on a worker thread:
+  // the tests read only the frame, the supports and the grids, so the grids are
+  // independent; each keeps what it accepts and its parts apart, joined in grid order
+  // as one thread would give them. Largest grids first: both tests and split cost
+  // about their pixels. The loop of one grid keeps the tests' `continue`s.
+  std::vector<std::vector<Accepted>> accepted_of(grids.size());
+  std::vector<std::vector<std::vector<int>>> parts_of(grids.size());
+  std::vector<size_t> grid_sizes(grids.size());
+  for (size_t g = 0; g < grids.size(); ++g) grid_sizes[g] = grids[g].size();
+  const std::vector<size_t> grid_order = largest_first(grid_sizes);
+  parallel_for(grids.size(), [&](size_t g) {
+  std::vector<Accepted>& accepted = accepted_of[g];
+  for (const std::vector<int>& grid : std::span(&grids[g], 1)) {
     const int k = mask[grid.front()] - 1;
     if (!result.supports[static_cast<size_t>(k)].selected) continue;
     const PlaneFit& plane = found[static_cast<size_t>(k)].plane;
@@ -1592,32 +1604,30 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
                        foot_unseen(f, grid, stride, surface_of, k);
     accepted.push_back({&grid, k, min_points, top_hidden || panel});
   }
-  // Touching objects apart at the creases and depth steps between them, each cluster
-  // on a worker thread (they are independent; the parts are kept in cluster order). The
-  // regions grow with the tolerance the clustering used at the cluster's farthest point
-  // (it widens with depth noise), so a far cluster is not cut where it merely is noisy.
-  std::vector<std::vector<std::vector<int>>> parts(accepted.size());
-  std::vector<size_t> grid_sizes(accepted.size());
-  for (size_t a = 0; a < accepted.size(); ++a) grid_sizes[a] = accepted[a].grid->size();
-  const std::vector<size_t> split_order = largest_first(grid_sizes);
-  parallel_for(accepted.size(), [&](size_t a) {
-    const std::vector<int>& grid = *accepted[a].grid;
+  // Touching objects apart at the creases and depth steps between them (the parts are
+  // kept in cluster order). The regions grow with the tolerance the clustering used at
+  // the cluster's farthest point (it widens with depth noise), so a far cluster is not
+  // cut where it merely is noisy.
+  for (const Accepted& a : accepted) {
+    const std::vector<int>& grid = *a.grid;
     double z_far = 0;
     for (int i : grid) z_far = std::max(z_far, static_cast<double>(f.points[i].z));
-    const PlaneFit& plane = found[static_cast<size_t>(accepted[a].support)].plane;
+    const PlaneFit& plane = found[static_cast<size_t>(a.support)].plane;
     for (const std::vector<int>& part :
          split_cluster(f, grid, stride, cluster_tolerance(params, z_far), params.segment))
-      parts[a].push_back(expand_cluster(f, part, stride, plane, params));
-  }, &split_order);
-  for (size_t a = 0; a < accepted.size(); ++a)
-    for (std::vector<int>& full : parts[a]) {
-      if (static_cast<int>(full.size()) < accepted[a].min_points ||
-          static_cast<int>(full.size()) > params.max_cluster_points)
-        continue;
-      if (accepted[a].unseen)
-        for (int i : full) hidden[static_cast<size_t>(i)] = 1;
-      clusters.push_back({std::move(full), accepted[a].support});
-    }
+      parts_of[g].push_back(expand_cluster(f, part, stride, plane, params));
+  }
+  }, &grid_order);
+  for (size_t g = 0; g < grids.size(); ++g)
+    for (const Accepted& a : accepted_of[g])
+      for (std::vector<int>& full : parts_of[g]) {
+        if (static_cast<int>(full.size()) < a.min_points ||
+            static_cast<int>(full.size()) > params.max_cluster_points)
+          continue;
+        if (a.unseen)
+          for (int i : full) hidden[static_cast<size_t>(i)] = 1;
+        clusters.push_back({std::move(full), a.support});
+      }
   std::vector<int> label(f.points.size(), -1);
   for (size_t c = 0; c < clusters.size(); ++c)
     for (int i : clusters[c].pixels) label[i] = static_cast<int>(c);
