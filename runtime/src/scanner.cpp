@@ -959,28 +959,96 @@ bool on_plane(const PlaneFit& plane, const std::vector<Vec3>& sample, double gap
 
 }  // namespace
 
+namespace {
+
+// The strided pixels with depth within max_depth_m, in raster order, with what the
+// plane stage's pool reads of each (its grid cell, its point, its plane band), and the
+// counts per grid row and column (the image border). Built in chunks of grid rows on
+// the scan's threads, in two passes: the counts per row give each row's place in the
+// arrays, then each chunk fills its rows there, so the arrays are the pool's from the
+// start (the pool was a copy of a list built pixel by pixel on the calling thread).
+struct StridedPixels {
+  std::vector<int> index;       // pixel index
+  std::vector<GridCell> cells;  // its cell on the strided grid
+  std::vector<Vec3> pts;        // its point
+  std::vector<double> band;     // plane_band at its depth
+  std::vector<int> rows, cols;  // valid strided pixels per grid row and per grid column
+};
+
+StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int stride) {
+  const int gw = (f.width + stride - 1) / stride, gh = (f.height + stride - 1) / stride;
+  StridedPixels s;
+  s.rows.assign(static_cast<size_t>(gh), 0);
+  s.cols.assign(static_cast<size_t>(gw), 0);
+  auto kept = [&](const PointXYZRGB& p) { return valid(p) && p.z <= params.max_depth_m; };
+  // Chunks of 16 grid rows (some 2500 pixels at a 640-pixel width), handed out one at a
+  // time: a helper that starts late (woken from sleep) takes fewer of them.
+  constexpr int kChunkRows = 16;
+  const size_t chunks = static_cast<size_t>((gh + kChunkRows - 1) / kChunkRows);
+  auto rows_of = [&](size_t c) {
+    return std::pair{static_cast<int>(c) * kChunkRows, std::min(gh, static_cast<int>(c + 1) * kChunkRows)};
+  };
+  std::vector<std::vector<int>> chunk_cols(chunks);
+  parallel_for(chunks, [&](size_t c) {
+    std::vector<int>& cols = chunk_cols[c];
+    cols.assign(static_cast<size_t>(gw), 0);
+    const auto [lo, hi] = rows_of(c);
+    for (int gy = lo; gy < hi; ++gy) {
+      const PointXYZRGB* row = f.points.data() + static_cast<size_t>(gy) * stride * f.width;
+      int n = 0;
+      for (int x = 0, gx = 0; x < f.width; x += stride, ++gx)
+        if (kept(row[x])) ++n, ++cols[static_cast<size_t>(gx)];
+      s.rows[static_cast<size_t>(gy)] = n;
+    }
+  });
+  for (const std::vector<int>& cols : chunk_cols)
+    for (size_t gx = 0; gx < s.cols.size(); ++gx) s.cols[gx] += cols[gx];
+  std::vector<size_t> start(static_cast<size_t>(gh) + 1, 0);
+  for (size_t gy = 0; gy < s.rows.size(); ++gy) start[gy + 1] = start[gy] + static_cast<size_t>(s.rows[gy]);
+  const size_t n = start.back();
+  s.index.resize(n);
+  s.cells.resize(n);
+  s.pts.resize(n);
+  s.band.resize(n);
+  parallel_for(chunks, [&](size_t c) {
+    const auto [lo, hi] = rows_of(c);
+    size_t k = start[static_cast<size_t>(lo)];
+    for (int gy = lo; gy < hi; ++gy) {
+      const int y = gy * stride;
+      for (int x = 0, gx = 0; x < f.width; x += stride, ++gx) {
+        const int i = y * f.width + x;
+        const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
+        if (!kept(p)) continue;
+        s.index[k] = i;
+        s.cells[k] = {gx, gy};
+        s.pts[k] = to_vec(p);
+        s.band[k] = plane_band(params, s.pts[k].z);
+        ++k;
+      }
+    }
+  });
+  return s;
+}
+
+}  // namespace
+
 // Every support: planes extracted one after another, each one's inliers leaving the
 // search. A plane counts when its kept regions hold min_plane_points. Kept out of line
 // so the plane stage shows on its own in a profile.
+// `strided`: strided_pixels' arrays, which become the pool (its index is copied: the
+// prism stage reads the strided pixels after this).
 [[gnu::noinline]] std::vector<Found> find_supports(const Frame& f, const ScanParams& params,
-                                                   const std::vector<int>& strided,
-                                                   const std::vector<GridCell>& strided_cells,
-                                                   Vec3 up, std::mt19937_64& rng) {
+                                                   StridedPixels& strided, Vec3 up,
+                                                   std::mt19937_64& rng) {
   const int stride = std::max(1, params.pixel_stride);
   const double cos_tilt = cos_degrees(params.max_support_tilt_deg);
   std::vector<Found> found;
   std::vector<char> free(f.points.size(), 0);
-  for (int i : strided) free[i] = 1;
-  std::vector<int> pool = strided;
-  std::vector<GridCell> pool_cells = strided_cells;
-  std::vector<Vec3> pool_pts;
-  std::vector<double> pool_band;  // each pool point's plane band (plane_band at its depth)
-  pool_pts.reserve(pool.size());
-  pool_band.reserve(pool.size());
-  for (int i : pool) {
-    pool_pts.push_back(to_vec(f.points[i]));
-    pool_band.push_back(plane_band(params, pool_pts.back().z));
-  }
+  for (int i : strided.index) free[i] = 1;
+  std::vector<int> pool = strided.index;
+  std::vector<GridCell> pool_cells = std::move(strided.cells);
+  std::vector<Vec3> pool_pts = std::move(strided.pts);
+  std::vector<double> pool_band = std::move(strided.band);  // each pool point's plane band
   const int min_region = std::max(1, params.min_plane_points / (4 * stride * stride));
   std::vector<std::pair<PlaneFit, std::vector<PlaneRegions>>> planes;
   std::vector<int> inliers;
@@ -1212,21 +1280,11 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
 
   auto t0 = Clock::now();
   const int stride = std::max(1, params.pixel_stride);
-  std::vector<int> strided;
-  std::vector<GridCell> strided_cells;  // each strided pixel's grid cell
+  StridedPixels strided_px = strided_pixels(f, params, stride);
+  const std::vector<int>& strided = strided_px.index;
   // Valid strided pixels per grid row and column (the image border below).
   const int gw = (f.width + stride - 1) / stride, gh = (f.height + stride - 1) / stride;
-  std::vector<int> valid_rows(static_cast<size_t>(gh), 0), valid_cols(static_cast<size_t>(gw), 0);
-  for (int y = 0, gy = 0; y < f.height; y += stride, ++gy)
-    for (int x = 0, gx = 0; x < f.width; x += stride, ++gx) {
-      const int i = y * f.width + x;
-      if (valid(f.points[i]) && f.points[i].z <= params.max_depth_m) {
-        strided.push_back(i);
-        strided_cells.push_back({gx, gy});
-        ++valid_rows[static_cast<size_t>(gy)];
-        ++valid_cols[static_cast<size_t>(gx)];
-      }
-    }
+  const std::vector<int> valid_rows = std::move(strided_px.rows), valid_cols = std::move(strided_px.cols);
   if (strided.size() < 50) {
     // Valid points that all lie beyond the range are most often a cloud in millimetres.
     std::vector<float> far;
@@ -1241,7 +1299,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
                   median > 50 ? "; Annex expects metres (is this cloud in millimetres?)" : "");
     return Error{text, where};
   }
-  std::vector<Found> found = find_supports(f, params, strided, strided_cells, up, rng);
+  std::vector<Found> found = find_supports(f, params, strided_px, up, rng);
   const double cos_tilt = cos_degrees(params.max_support_tilt_deg);
   if (found.empty())
     return Error{"no horizontal plane found (support must be within " +

@@ -138,4 +138,32 @@ TEST(ScanThreads, GeneratedWorldScenesScanTheSameOnOneTwoAndThreeThreads) {
 }
 
 }  // namespace
+// The strided pixels are gathered in chunks of grid rows on the scan's threads: frames
+// whose grid neither fills the last chunk nor the last column (a crop of a world scene
+// to 637 x 473, strides 2 and 3) scan the same on one, two and three threads.
+TEST(ScanThreads, OddFrameSizesScanTheSameOnOneTwoAndThreeThreads) {
+  const Result<SyntheticScene> scene = generate_scene(world_scene_params(2001));
+  ASSERT_TRUE(scene.ok()) << scene.error().format();
+  const Frame full = render_scene(*scene).frame;
+  Frame crop;
+  crop.width = full.width - 3;
+  crop.height = full.height - 7;
+  for (int y = 0; y < crop.height; ++y)
+    for (int x = 0; x < crop.width; ++x)
+      crop.points.push_back(full.points[static_cast<size_t>(y) * full.width + x]);
+  for (int stride : {2, 3}) {
+    ScanParams one;
+    one.threads = 1;
+    one.pixel_stride = stride;
+    const Result<ScanResult> base = scan_frame(crop, one);
+    ASSERT_TRUE(base.ok()) << base.error().format();
+    EXPECT_GT(base->scene.objects.size(), 0u) << "stride " << stride;
+    for (int threads : {2, 3}) {
+      ScanParams p = one;
+      p.threads = threads;
+      EXPECT_TRUE(expect_same(scan_frame(crop, p), base, "crop, stride " + std::to_string(stride), threads));
+    }
+  }
+}
+
 }  // namespace annex
