@@ -1418,13 +1418,15 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   const size_t ns = found.size();
   std::vector<char> mask(f.points.size(), 0);
   std::vector<int> seeds;
-  // Pixels are independent: the pass runs in bands of the strided pixels, one per
-  // thread, each band's seeds kept apart and joined in band order (raster order, as
-  // one pass would give them). Below kMinPrismBand pixels a band is not worth a wake-up.
-  constexpr size_t kMinPrismBand = 8192;
-  std::vector<std::vector<int>> band_seeds(static_cast<size_t>(pool.threads()));
-  const size_t prism_bands =
-      pool.bands(strided.size(), kMinPrismBand, [&](size_t b, size_t lo, size_t hi) {
+  // Pixels are independent: the pass runs in chunks of kPrismChunk strided pixels
+  // handed out one at a time (a helper woken late from the plane stage's serial stretch
+  // takes fewer: with one band per thread the caller waited for its band), each chunk's
+  // seeds kept apart and joined in chunk order (raster order, as one pass gives them).
+  constexpr size_t kPrismChunk = 4096;
+  const size_t prism_bands = (strided.size() + kPrismChunk - 1) / kPrismChunk;
+  std::vector<std::vector<int>> band_seeds(prism_bands);
+  parallel_for(prism_bands, [&](size_t b) {
+    const size_t lo = b * kPrismChunk, hi = std::min(strided.size(), lo + kPrismChunk);
     std::vector<int>& out = band_seeds[b];
     for (size_t s = lo; s < hi; ++s) {
       const int i = strided[s];
