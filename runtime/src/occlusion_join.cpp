@@ -14,9 +14,14 @@ struct Piece {
 Piece describe(const Frame& f, const ScanCluster& c) {
   Piece p;
   std::vector<float> z;
+  z.reserve(c.pixels.size());
+  // A pixel's row by one division only when it leaves the last one's row (the pixels
+  // are in raster order, so once per row): the same columns and rows, summed in order.
+  int row = 0, row_start = -2 * f.width;
   for (int i : c.pixels) {
-    p.u += i % f.width;
-    p.v += i / f.width;
+    if (i < row_start || i >= row_start + f.width) row = i / f.width, row_start = row * f.width;
+    p.u += i - row_start;
+    p.v += row;
     z.push_back(f.points[i].z);
   }
   if (c.pixels.empty()) return p;
@@ -109,8 +114,10 @@ void join_occluded_pieces(const Frame& f, std::vector<ScanCluster>& clusters,
       new_id[k] = static_cast<int>(kept.size());
       kept.push_back(std::move(clusters[k]));
     }
-  for (int& l : label)
-    if (l >= 0) l = new_id[l];
+  // Nothing joined: every index is its own.
+  if (kept.size() < n)
+    for (int& l : label)
+      if (l >= 0) l = new_id[l];
   clusters = std::move(kept);
 }
 

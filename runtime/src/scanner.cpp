@@ -839,6 +839,21 @@ void parallel_for(size_t n, F body, const std::vector<size_t>* order = nullptr) 
   for (size_t k = 0; k < n; ++k) body(order ? (*order)[k] : k);
 }
 
+// Whether at least `share` of `pts` (none: false) lie within `solid` grown by `margin`:
+// the count stops once the answer is known (the share reached, or out of reach with the
+// points left), so it answers as the full count does.
+bool mostly_inside(const ShapeFit& solid, const std::vector<Vec3>& pts, double margin, double share) {
+  if (pts.empty()) return false;
+  const double need = share * static_cast<double>(pts.size());
+  size_t inside = 0;
+  for (size_t m = 0; m < pts.size(); ++m) {
+    if (static_cast<double>(inside) >= need) return true;
+    if (static_cast<double>(inside + (pts.size() - m)) < need) return false;
+    inside += within_shape(solid, pts[m], margin);
+  }
+  return static_cast<double>(inside) >= need;
+}
+
 // Two objects on a support cannot interpenetrate: a cluster lying mostly inside a
 // bigger object's fitted solid is a part of it that a depth edge cut off (a bottle's
 // handle behind its rim). Each such part joins the biggest object that contains it,
@@ -852,20 +867,24 @@ void merge_parts(const Frame& f, const ScanParams& params, ScanResult& result,
   std::stable_sort(by_size.begin(), by_size.end(), [&](size_t a, size_t b) {
     return result.clusters[a].pixels.size() > result.clusters[b].pixels.size();
   });
-  std::vector<int> owner(n, -1);
-  for (size_t k = 1; k < n; ++k) {
+  // Whether each part lies in each bigger object's solid, tested for every pair on the
+  // scan's threads (the pairs are independent), then the owners taken in size order as
+  // before: the first bigger object, itself no part, that holds the part.
+  std::vector<std::vector<char>> holds(n);
+  parallel_for(n, [&](size_t k) {
     const ScanCluster& part = result.clusters[by_size[k]];
-    for (size_t j = 0; j < k && owner[by_size[k]] < 0; ++j) {
-      const size_t big = by_size[j];
-      if (owner[big] >= 0 || result.clusters[big].shape.primitives.empty()) continue;
-      if (!(result.clusters[big].support == part.support)) continue;
-      const ShapeFit& solid = result.clusters[big].shape.primitives.front();
-      size_t inside = 0;
-      for (const Vec3& p : part.points) inside += within_shape(solid, p, params.part_margin_m);
-      if (!part.points.empty() && inside >= params.part_share * part.points.size())
-        owner[by_size[k]] = static_cast<int>(big);
+    holds[k].assign(k, 0);
+    for (size_t j = 0; j < k; ++j) {
+      const ScanCluster& big = result.clusters[by_size[j]];
+      if (big.shape.primitives.empty() || !(big.support == part.support)) continue;
+      holds[k][j] = mostly_inside(big.shape.primitives.front(), part.points, params.part_margin_m,
+                                  params.part_share);
     }
-  }
+  });
+  std::vector<int> owner(n, -1);
+  for (size_t k = 1; k < n; ++k)
+    for (size_t j = 0; j < k && owner[by_size[k]] < 0; ++j)
+      if (owner[by_size[j]] < 0 && holds[k][j]) owner[by_size[k]] = static_cast<int>(by_size[j]);
   std::vector<char> grown(n, 0);
   for (size_t c = 0; c < n; ++c) {
     if (owner[c] < 0) continue;
