@@ -639,18 +639,24 @@ std::vector<std::vector<int>> grow_clusters(const Frame& f, const std::vector<ch
   std::vector<char> open = mask;
   std::vector<std::vector<int>> clusters;
   const int w = std::max(1, params.cluster_window_px / step);
+  // Seeds and their neighbours are strided pixels: each queued pixel keeps its grid cell,
+  // so the window's clip takes no division (a strided pixel's x / step is its grid
+  // column, (width - 1 - x) / step the last grid column less it, as for rows).
+  const int last_gx = (f.width - 1) / step, last_gy = (f.height - 1) / step;
   std::vector<int> queue;
+  std::vector<GridCell> queued;
   for (int start : seeds) {
     if (!open[start]) continue;
     queue.assign(1, start);
+    queued.assign(1, {start % f.width / step, start / f.width / step});
     open[start] = 0;
     for (size_t q = 0; q < queue.size(); ++q) {
-      const int i = queue[q], x = i % f.width, y = i / f.width;
+      const int i = queue[q], gx = queued[q].x, gy = queued[q].y, x = gx * step, y = gy * step;
       const PointXYZRGB& p = f.points[i];
       const double tol = cluster_tolerance(params, p.z), tol2 = tol * tol;
       // The window clipped to the image once per pixel, not tested per neighbour.
-      const int dy0 = -std::min(w, y / step), dy1 = std::min(w, (f.height - 1 - y) / step);
-      const int dx0 = -std::min(w, x / step), dx1 = std::min(w, (f.width - 1 - x) / step);
+      const int dy0 = -std::min(w, gy), dy1 = std::min(w, last_gy - gy);
+      const int dx0 = -std::min(w, gx), dx1 = std::min(w, last_gx - gx);
       const char own = mask[i];
       for (int dy = dy0; dy <= dy1; ++dy) {
         const int row = (y + dy * step) * f.width;
@@ -662,6 +668,7 @@ std::vector<std::vector<int>> grow_clusters(const Frame& f, const std::vector<ch
           if (ddx * ddx + ddy * ddy + ddz * ddz > tol2) continue;
           open[j] = 0;
           queue.push_back(j);
+          queued.push_back({gx + dx, gy + dy});
         }
       }
     }
