@@ -1117,6 +1117,8 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
   std::vector<char> pool_up;
   std::vector<double> pool_h;  // with pool_up: each pool point's height above the first plane
   bool up_ready = false;
+  std::vector<char> first_up;   // pool_up and pool_h of the plane last tried as the first
+  std::vector<double> first_h;
   // Up-facing points within min_support_gap_m of a kept plane can give no later support
   // (supports lie that far apart, below): they leave the candidates with its inliers.
   auto clear_near = [&](const PlaneFit& kept) {
@@ -1129,12 +1131,11 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
     // search can give one (the search would end the loop the same way).
     if (static_cast<long long>(pool.size()) * stride * stride < params.min_plane_points) break;
     if (!planes.empty() && !up_ready) {
-      const PlaneFit& first = planes.front().first;
-      pool_up = facing_up(f, pool, pool_cells, stride, first.n);
-      pool_h.resize(pool.size());
-      for (size_t k = 0; k < pool.size(); ++k) pool_h[k] = dot(first.n, pool_pts[k]) + first.d;
+      // Found beside the first plane's regions (below), for this pool and this plane.
+      pool_up = std::move(first_up);
+      pool_h = std::move(first_h);
       up_ready = true;
-      clear_near(first);
+      clear_near(planes.front().first);
     }
     int peak = 0;
     double peak_height = 0;
@@ -1185,22 +1186,38 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
       for (size_t k : at_peak) pool_up[k] = 0;
       continue;
     }
-    std::vector<PlaneRegions> regions =
-        plane_regions(f, inliers, inlier_cells, stride, min_region, true);
-    // Its inliers leave the search whether it counts or not (an object's top).
-    for (int i : inliers) free[i] = 0;
-    size_t kept = 0;
-    for (size_t k = 0; k < pool.size(); ++k)
-      if (free[pool[k]]) {
-        if (up_ready) pool_up[kept] = pool_up[k], pool_h[kept] = pool_h[k];
-        pool_band[kept] = pool_band[k];
-        pool[kept] = pool[k], pool_cells[kept] = pool_cells[k], pool_pts[kept++] = pool_pts[k];
+    // The regions and the pool's compaction read only the inliers: two items on the
+    // scan's threads. Beside the first plane's regions the compacted pool's up-facing
+    // points and heights above that plane are found too (facing_up), which the next
+    // search reads once the plane counts (at the loop's top); they are found again for
+    // the next plane tried as the first should this one not count.
+    std::vector<PlaneRegions> regions;
+    const bool first_plane = planes.empty();
+    parallel_for(2, [&](size_t job) {
+      if (job == 0) {
+        regions = plane_regions(f, inliers, inlier_cells, stride, min_region, true);
+        return;
       }
-    pool.resize(kept);
-    pool_band.resize(kept);
-    pool_cells.resize(kept);
-    pool_pts.resize(kept);
-    if (up_ready) pool_up.resize(kept), pool_h.resize(kept);
+      // Its inliers leave the search whether it counts or not (an object's top).
+      for (int i : inliers) free[i] = 0;
+      size_t kept = 0;
+      for (size_t k = 0; k < pool.size(); ++k)
+        if (free[pool[k]]) {
+          if (up_ready) pool_up[kept] = pool_up[k], pool_h[kept] = pool_h[k];
+          pool_band[kept] = pool_band[k];
+          pool[kept] = pool[k], pool_cells[kept] = pool_cells[k], pool_pts[kept++] = pool_pts[k];
+        }
+      pool.resize(kept);
+      pool_band.resize(kept);
+      pool_cells.resize(kept);
+      pool_pts.resize(kept);
+      if (up_ready) pool_up.resize(kept), pool_h.resize(kept);
+      if (first_plane) {
+        first_up = facing_up(f, pool, pool_cells, stride, ps.plane.n);
+        first_h.resize(pool.size());
+        for (size_t k = 0; k < pool.size(); ++k) first_h[k] = dot(ps.plane.n, pool_pts[k]) + ps.plane.d;
+      }
+    });
     int total = 0;
     for (const PlaneRegions& r : regions) total += static_cast<int>(r.members.size()) * stride * stride;
     if (total < params.min_plane_points) continue;
