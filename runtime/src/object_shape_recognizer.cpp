@@ -1570,15 +1570,20 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   // A cylinder lying on its side or leaning (cylinder_any_axis.h): it wins when it
   // explains clearly more than the best shape standing upright and its side normals
   // sweep round its axis rather than bunch into a box's faces.
+  // Only fits that could be chosen are finished (AxisGate): a cylinder whose axis is
+  // not lying (resp. not on its rim) is never chosen, nor one whose score (at most 1,
+  // the share of points it explains) cannot pass `beat`; such fits are left out of the
+  // candidates too.
   std::optional<ShapeFit> any_axis;
-  if (s.has_normals) {
+  const AxisGate lying_axis = [&](Vec3 axis) { return std::abs(dot(axis, frame.n)) < std::cos(kPi / 4); };
+  const double beat = best >= 0 ? best_score + params.complexity_margin : 0.0;
+  if (s.has_normals && beat < 1) {
     std::vector<Vec3> n3(s.p.size());
     for (size_t i = 0; i < s.p.size(); ++i) n3[i] = frame.dir(s.na[i], s.nb[i], s.up[i]);
-    const AxisCylinderFit any = fit_cylinder_any_axis(s.xyz, n3, s.tol, params);
+    const AxisCylinderFit any = fit_cylinder_any_axis(s.xyz, n3, s.tol, params, lying_axis);
     if (any.valid) {
       out.candidates.push_back(any.fit);
-      const bool lying = std::abs(dot(any.fit.primitive.axis, frame.n)) < std::cos(kPi / 4);
-      const double beat = best >= 0 ? best_score + params.complexity_margin : 0.0;
+      const bool lying = lying_axis(any.fit.primitive.axis);
       if (lying && any.facetedness < params.max_round_facetedness &&
           any.fit.coverage >= params.min_coverage && any.score > beat && as_close(any.fit))
         any_axis = any.fit;
@@ -1589,10 +1594,10 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   const bool box_wins = best < 0 || cands[best].coverage < params.min_coverage ||
                         cands[best].model == Model::box;
   if (!any_axis && box_wins) {
-    const DiscCylinderFit disc = fit_cylinder_on_rim(s.xyz, s.tol, params);
+    const DiscCylinderFit disc = fit_cylinder_on_rim(s.xyz, s.tol, params, lying_axis);
     if (disc.cylinder.valid) {
       out.candidates.push_back(disc.cylinder.fit);
-      const bool on_rim = std::abs(dot(disc.cylinder.fit.primitive.axis, frame.n)) < std::cos(kPi / 4);
+      const bool on_rim = lying_axis(disc.cylinder.fit.primitive.axis);
       const double rival = best >= 0 && cands[best].coverage >= params.min_coverage ? cands[best].coverage : 0.0;
       if (on_rim && disc.round_outline >= params.min_round_outline &&
           disc_round_over_rectangle(s, disc.cylinder.fit.primitive.axis, params) >= kRoundOverRectangle &&
