@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -431,9 +432,11 @@ Circle robust_circle(const std::vector<std::array<double, 2>>& q, const std::vec
     const Circle c = circle_through(q[pick(rng)], q[pick(rng)], q[pick(rng)]);
     if (!c.ok || c.r < params.min_radius_m || c.r > params.max_radius_m) continue;
     e = (((qa - c.x).square() + (qb - c.y).square()).sqrt() - c.r) / qt;
+    // Each point's term packed too (0 outside the tolerance: adding +0 to the sum, never
+    // negative, leaves it as it is), then summed one at a time in the points' order.
+    e = (e.abs() < 1).select(1 - e.square(), 0.0);
     double score = 0;
-    for (Eigen::Index j = 0; j < scored; ++j)
-      if (std::abs(e[j]) < 1) score += 1 - e[j] * e[j];
+    for (Eigen::Index j = 0; j < scored; ++j) score += e[j];
     if (score > best_score) {
       best_score = score;
       best = c;
@@ -669,10 +672,19 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
   double k = std::abs(den) > 1e-12 ? (n * srh - sh * sr) / den : 0.0;
   double r0 = (sr - k * sh) / n;
   std::array<double, 4> x{cyl.ca, cyl.cb, r0, r0 + k};
+  // The terms of the parameters' point-free part, computed when the parameters change
+  // (once per pass over the points), not per point: the same expressions, the same values.
+  std::array<double, 4> terms_at;
+  terms_at.fill(std::numeric_limits<double>::quiet_NaN());
+  shape_residuals::ConeTerms terms;
   refine_sampled<4>(x, static_cast<int>(idx.size()), tol,
                     [&](const std::array<double, 4>& p, int j, shape_residuals::Gradient<4>* g) {
+                      if (std::memcmp(p.data(), terms_at.data(), sizeof p) != 0) {  // bit for bit
+                        terms = shape_residuals::cone_terms(p, span);
+                        terms_at = p;
+                      }
                       const Local& q = s.p[idx[j]];
-                      return shape_residuals::cone(p, q.a, q.b, (q.h - span_ref.h0) / span, span, g);
+                      return shape_residuals::cone(p, q.a, q.b, (q.h - span_ref.h0) / span, span, terms, g);
                     },
                     params.refine_sample_points);
   c.ca = x[0];
