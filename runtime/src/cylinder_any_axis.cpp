@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 
@@ -79,22 +80,56 @@ AxisCylinderFit finish(const std::vector<Vec3>& points, const std::vector<Eigen:
   return out;
 }
 
-// One fit from a starting axis: the axis refined as the least eigenvector of the side
-// normals' scatter (normals within 66 degrees of the axis are caps and left out).
-AxisCylinderFit fit_from(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
-                         const std::vector<double>& tol, const ShapeRecognizerParams& params,
-                         Eigen::Vector3d axis) {
-  AxisCylinderFit out;
+// A starting axis refined as the least eigenvector of the side normals' scatter
+// (normals within 66 degrees of the axis are caps and left out), and the points seen
+// across it: what the circle fit (circle_from) needs, and what decides before it whether
+// the fit could win (its axis, its facetedness).
+struct AxisStart {
+  bool valid = false;
+  Eigen::Vector3d axis, e1, e2;
+  std::vector<char> side;
+  std::vector<Eigen::Vector2d> q;
+  std::vector<double> s, w;
+  double facetedness = 1;
+};
+
+// The normals as Eigen vectors, and whether each is known (norm above 0.5), computed
+// once for both starts and every round.
+struct KnownNormals {
+  std::vector<Eigen::Vector3d> v;
+  std::vector<char> known;
+  explicit KnownNormals(const std::vector<Vec3>& normals) : v(normals.size()), known(normals.size()) {
+    for (size_t i = 0; i < normals.size(); ++i) {
+      v[i] = Eigen::Vector3d(normals[i].x, normals[i].y, normals[i].z);
+      known[i] = v[i].norm() > 0.5;
+    }
+  }
+};
+
+// m's lower triangle += v v^T: SelfAdjointEigenSolver reads the lower triangle only.
+void add_outer_lower(Eigen::Matrix3d& m, const Eigen::Vector3d& v) {
+  m(0, 0) += v.x() * v.x();
+  m(1, 0) += v.y() * v.x();
+  m(2, 0) += v.z() * v.x();
+  m(1, 1) += v.y() * v.y();
+  m(2, 1) += v.z() * v.y();
+  m(2, 2) += v.z() * v.z();
+}
+
+AxisStart start_from(const std::vector<Vec3>& points, const KnownNormals& normals,
+                     Eigen::Vector3d axis) {
+  AxisStart out;
   const size_t n = points.size();
-  std::vector<char> side(n, 0);
+  std::vector<char>& side = out.side;
+  side.assign(n, 0);
   for (int round = 0; round < 3; ++round) {
     Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
     int used = 0;
     for (size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d v(normals[i].x, normals[i].y, normals[i].z);
-      side[i] = v.norm() > 0.5 && std::abs(v.dot(axis)) < 0.4;
+      const Eigen::Vector3d& v = normals.v[i];
+      side[i] = normals.known[i] && std::abs(v.dot(axis)) < 0.4;
       if (!side[i]) continue;
-      m += v * v.transpose();
+      add_outer_lower(m, v);
       ++used;
     }
     if (used < 30) return out;
@@ -103,24 +138,22 @@ AxisCylinderFit fit_from(const std::vector<Vec3>& points, const std::vector<Vec3
     if (es.eigenvalues()(1) < 0.05 * es.eigenvalues()(2)) return out;
     axis = es.eigenvectors().col(0);
   }
-  for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d v(normals[i].x, normals[i].y, normals[i].z);
-    side[i] = v.norm() > 0.5 && std::abs(v.dot(axis)) < 0.4;
-  }
+  for (size_t i = 0; i < n; ++i) side[i] = normals.known[i] && std::abs(normals.v[i].dot(axis)) < 0.4;
   // Cross-section: points projected on the plane across the axis.
   const Eigen::Vector3d seed = std::abs(axis.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
   const Eigen::Vector3d e1 = axis.cross(seed).normalized(), e2 = axis.cross(e1);
-  std::vector<Eigen::Vector2d> q(n);
-  std::vector<double> s(n), w(n);
+  out.q.resize(n);
+  out.s.resize(n);
+  out.w.resize(n);
   double c4 = 0, s4 = 0;
   int sides = 0;
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d p(points[i].x, points[i].y, points[i].z);
-    q[i] = Eigen::Vector2d(p.dot(e1), p.dot(e2));
-    s[i] = p.dot(axis);
-    w[i] = side[i] ? 1.0 : 0.0;
+    out.q[i] = Eigen::Vector2d(p.dot(e1), p.dot(e2));
+    out.s[i] = p.dot(axis);
+    out.w[i] = side[i] ? 1.0 : 0.0;
     if (side[i]) {
-      const Eigen::Vector3d v(normals[i].x, normals[i].y, normals[i].z);
+      const Eigen::Vector3d& v = normals.v[i];
       const auto [cos4, sin4] = shape_residuals::fourfold(v.dot(e1), v.dot(e2));
       c4 += cos4;
       s4 += sin4;
@@ -129,19 +162,35 @@ AxisCylinderFit fit_from(const std::vector<Vec3>& points, const std::vector<Vec3
   }
   if (sides < 30) return out;
   out.facetedness = std::sqrt(c4 * c4 + s4 * s4) / sides;
+  out.axis = axis;
+  out.e1 = e1;
+  out.e2 = e2;
+  out.valid = true;
+  return out;
+}
+
+// The cross-section's circle from a valid start: an algebraic circle on the side points,
+// reweighted, then the cylinder's length, coverage and score (finish).
+AxisCylinderFit circle_from(const std::vector<Vec3>& points, const std::vector<double>& tol,
+                            const ShapeRecognizerParams& params, AxisStart& st) {
+  AxisCylinderFit out;
+  out.facetedness = st.facetedness;
+  const size_t n = points.size();
+  const std::vector<Eigen::Vector2d>& q = st.q;
+  std::vector<double>& w = st.w;
   Eigen::Vector2d c;
   double r = 0;
   if (!kasa(q, w, c, r)) return out;
   // Reweighted: points far from the circle (a label's edge, a neighbour's sliver) drop.
   for (int round = 0; round < 4; ++round) {
     for (size_t i = 0; i < n; ++i) {
-      if (!side[i]) continue;
+      if (!st.side[i]) continue;
       const double e = ((q[i] - c).norm() - r) / (2 * tol[i]);
       w[i] = std::abs(e) < 1 ? (1 - e * e) * (1 - e * e) : 0.0;
     }
     if (!kasa(q, w, c, r)) return out;
   }
-  return finish(points, q, s, tol, params, axis, e1, e2, c, r, out);
+  return finish(points, q, st.s, tol, params, st.axis, st.e1, st.e2, c, r, out);
 }
 
 // The least direction of the scatter of points (all of them, or those marked).
@@ -159,7 +208,7 @@ Eigen::Vector3d flattest_direction(const std::vector<Vec3>& points, const std::v
   for (size_t i = 0; i < points.size(); ++i)
     if (use[i]) {
       const Eigen::Vector3d q = Eigen::Vector3d(points[i].x, points[i].y, points[i].z) - mean;
-      m += q * q.transpose();
+      add_outer_lower(m, q);
     }
   return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m).eigenvectors().col(0);
 }
@@ -167,7 +216,7 @@ Eigen::Vector3d flattest_direction(const std::vector<Vec3>& points, const std::v
 }  // namespace
 
 DiscCylinderFit fit_cylinder_on_rim(const std::vector<Vec3>& points, const std::vector<double>& tol,
-                                    const ShapeRecognizerParams& params) {
+                                    const ShapeRecognizerParams& params, const AxisGate& could_win) {
   DiscCylinderFit out;
   const size_t n = points.size();
   if (n < 60 || tol.size() != n) return out;
@@ -192,6 +241,7 @@ DiscCylinderFit fit_cylinder_on_rim(const std::vector<Vec3>& points, const std::
   }
   if (axis.norm() < 0.5) return out;
   if (axis.dot(-Eigen::Vector3d(points[0].x, points[0].y, points[0].z)) < 0) axis = -axis;
+  if (could_win && !could_win(Vec3{axis.x(), axis.y(), axis.z()})) return out;
   const Eigen::Vector3d seed = std::abs(axis.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
   const Eigen::Vector3d e1 = axis.cross(seed).normalized(), e2 = axis.cross(e1);
   std::vector<Eigen::Vector2d> q(n);
@@ -240,6 +290,7 @@ DiscCylinderFit fit_cylinder_on_rim(const std::vector<Vec3>& points, const std::
   int on = 0;
   for (size_t k = 0; k < rim.size(); ++k) on += std::abs((rim[k] - c).norm() - r) < rim_tol[k];
   out.round_outline = static_cast<double>(on) / kBins;
+  if (could_win && out.round_outline < params.min_round_outline) return out;
   // The lid sits at the median of its points (an embossed lid spreads them over
   // millimetres), the far end at the last points seen along the axis.
   std::vector<double> lid_s;
@@ -257,21 +308,32 @@ DiscCylinderFit fit_cylinder_on_rim(const std::vector<Vec3>& points, const std::
 AxisCylinderFit fit_cylinder_any_axis(const std::vector<Vec3>& points,
                                       const std::vector<Vec3>& normals,
                                       const std::vector<double>& tol,
-                                      const ShapeRecognizerParams& params) {
+                                      const ShapeRecognizerParams& params, const AxisGate& could_win) {
   const size_t n = points.size();
   if (n < 30 || normals.size() != n || tol.size() != n) return {};
   // Two starting axes from the scatter of all normals: its least direction when the
   // side dominates what is seen (a can lying across the view), its main direction when
   // a cap does (a tin standing on its edge, lid to the camera).
+  const KnownNormals known(normals);
   Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
-  for (const Vec3& v3 : normals) {
-    const Eigen::Vector3d v(v3.x, v3.y, v3.z);
-    if (v.norm() > 0.5) m += v * v.transpose();
-  }
+  for (size_t i = 0; i < n; ++i)
+    if (known.known[i]) add_outer_lower(m, known.v[i]);
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(m);
+  // Both starts' axes first: the better scoring start is the fit, so the circles are
+  // fitted unless neither start could be used (then neither fit could win).
+  std::array<AxisStart, 2> starts{start_from(points, known, es.eigenvectors().col(0)),
+                                  start_from(points, known, es.eigenvectors().col(2))};
+  if (could_win) {
+    bool any = false;
+    for (const AxisStart& st : starts)
+      any = any || (st.valid && st.facetedness < params.max_round_facetedness &&
+                    could_win(Vec3{st.axis.x(), st.axis.y(), st.axis.z()}));
+    if (!any) return {};
+  }
   AxisCylinderFit best;
-  for (int k : {0, 2}) {
-    AxisCylinderFit f = fit_from(points, normals, tol, params, es.eigenvectors().col(k));
+  for (AxisStart& st : starts) {
+    if (!st.valid) continue;
+    AxisCylinderFit f = circle_from(points, tol, params, st);
     if (f.valid && (!best.valid || f.score > best.score)) best = f;
   }
 

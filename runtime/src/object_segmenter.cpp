@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <type_traits>
 
 #include "annex/runtime/object_shape_recognizer.h"
 
@@ -111,20 +112,24 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
     if (g.slot[static_cast<size_t>(gy) * g.gw + gx] < 0) return 0.0f;
     const PointXYZRGB& c = f.points[static_cast<size_t>(y) * f.width + x];
     if (!valid(c)) return 0.0f;
-    double sum = 0;
-    int count = 0;
-    for (int dy = -1; dy <= 1; ++dy) {
-      const PointXYZRGB* row = &f.points[static_cast<size_t>(y + dy) * f.width + x];
-      for (int dx = -1; dx <= 1; ++dx) {
-        const float qz = row[dx].z;
-        // valid(q) and within 2 cm of c in one test: a NaN or infinite depth fails the
-        // <= (c.z is finite), and q.z > 0 is tested apart as valid() does.
-        if (!(std::abs(qz - c.z) <= 0.02f) || !(qz > 0)) continue;
-        sum += 1.0 / qz;
-        ++count;
+    // valid(q) and within 2 cm of c in one test: a NaN or infinite depth fails the <=
+    // (c.z is finite), and q.z > 0 is tested apart as valid() does, unless c is farther
+    // than 4 cm: then a depth of 0 or less is more than 4 cm from it, after rounding too.
+    auto mean = [&](auto test_positive) {
+      double sum = 0;
+      int count = 0;
+      for (int dy = -1; dy <= 1; ++dy) {
+        const PointXYZRGB* row = &f.points[static_cast<size_t>(y + dy) * f.width + x];
+        for (int dx = -1; dx <= 1; ++dx) {
+          const float qz = row[dx].z;
+          if (!(std::abs(qz - c.z) <= 0.02f) || (test_positive && !(qz > 0))) continue;
+          sum += 1.0 / qz;
+          ++count;
+        }
       }
-    }
-    return static_cast<float>(sum / count);
+      return static_cast<float>(sum / count);
+    };
+    return c.z > 0.04f ? mean(std::false_type{}) : mean(std::true_type{});
   };
   auto inv_depth = [&](int x, int y) -> double {
     // One unsigned compare per axis tests both ends of the box.

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -431,9 +432,11 @@ Circle robust_circle(const std::vector<std::array<double, 2>>& q, const std::vec
     const Circle c = circle_through(q[pick(rng)], q[pick(rng)], q[pick(rng)]);
     if (!c.ok || c.r < params.min_radius_m || c.r > params.max_radius_m) continue;
     e = (((qa - c.x).square() + (qb - c.y).square()).sqrt() - c.r) / qt;
+    // Each point's term packed too (0 outside the tolerance: adding +0 to the sum, never
+    // negative, leaves it as it is), then summed one at a time in the points' order.
+    e = (e.abs() < 1).select(1 - e.square(), 0.0);
     double score = 0;
-    for (Eigen::Index j = 0; j < scored; ++j)
-      if (std::abs(e[j]) < 1) score += 1 - e[j] * e[j];
+    for (Eigen::Index j = 0; j < scored; ++j) score += e[j];
     if (score > best_score) {
       best_score = score;
       best = c;
@@ -669,10 +672,19 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
   double k = std::abs(den) > 1e-12 ? (n * srh - sh * sr) / den : 0.0;
   double r0 = (sr - k * sh) / n;
   std::array<double, 4> x{cyl.ca, cyl.cb, r0, r0 + k};
+  // The terms of the parameters' point-free part, computed when the parameters change
+  // (once per pass over the points), not per point: the same expressions, the same values.
+  std::array<double, 4> terms_at;
+  terms_at.fill(std::numeric_limits<double>::quiet_NaN());
+  shape_residuals::ConeTerms terms;
   refine_sampled<4>(x, static_cast<int>(idx.size()), tol,
                     [&](const std::array<double, 4>& p, int j, shape_residuals::Gradient<4>* g) {
+                      if (std::memcmp(p.data(), terms_at.data(), sizeof p) != 0) {  // bit for bit
+                        terms = shape_residuals::cone_terms(p, span);
+                        terms_at = p;
+                      }
                       const Local& q = s.p[idx[j]];
-                      return shape_residuals::cone(p, q.a, q.b, (q.h - span_ref.h0) / span, span, g);
+                      return shape_residuals::cone(p, q.a, q.b, (q.h - span_ref.h0) / span, span, terms, g);
                     },
                     params.refine_sample_points);
   c.ca = x[0];
@@ -1570,15 +1582,20 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   // A cylinder lying on its side or leaning (cylinder_any_axis.h): it wins when it
   // explains clearly more than the best shape standing upright and its side normals
   // sweep round its axis rather than bunch into a box's faces.
+  // Only fits that could be chosen are finished (AxisGate): a cylinder whose axis is
+  // not lying (resp. not on its rim) is never chosen, nor one whose score (at most 1,
+  // the share of points it explains) cannot pass `beat`; such fits are left out of the
+  // candidates too.
   std::optional<ShapeFit> any_axis;
-  if (s.has_normals) {
+  const AxisGate lying_axis = [&](Vec3 axis) { return std::abs(dot(axis, frame.n)) < std::cos(kPi / 4); };
+  const double beat = best >= 0 ? best_score + params.complexity_margin : 0.0;
+  if (s.has_normals && beat < 1) {
     std::vector<Vec3> n3(s.p.size());
     for (size_t i = 0; i < s.p.size(); ++i) n3[i] = frame.dir(s.na[i], s.nb[i], s.up[i]);
-    const AxisCylinderFit any = fit_cylinder_any_axis(s.xyz, n3, s.tol, params);
+    const AxisCylinderFit any = fit_cylinder_any_axis(s.xyz, n3, s.tol, params, lying_axis);
     if (any.valid) {
       out.candidates.push_back(any.fit);
-      const bool lying = std::abs(dot(any.fit.primitive.axis, frame.n)) < std::cos(kPi / 4);
-      const double beat = best >= 0 ? best_score + params.complexity_margin : 0.0;
+      const bool lying = lying_axis(any.fit.primitive.axis);
       if (lying && any.facetedness < params.max_round_facetedness &&
           any.fit.coverage >= params.min_coverage && any.score > beat && as_close(any.fit))
         any_axis = any.fit;
@@ -1589,10 +1606,10 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   const bool box_wins = best < 0 || cands[best].coverage < params.min_coverage ||
                         cands[best].model == Model::box;
   if (!any_axis && box_wins) {
-    const DiscCylinderFit disc = fit_cylinder_on_rim(s.xyz, s.tol, params);
+    const DiscCylinderFit disc = fit_cylinder_on_rim(s.xyz, s.tol, params, lying_axis);
     if (disc.cylinder.valid) {
       out.candidates.push_back(disc.cylinder.fit);
-      const bool on_rim = std::abs(dot(disc.cylinder.fit.primitive.axis, frame.n)) < std::cos(kPi / 4);
+      const bool on_rim = lying_axis(disc.cylinder.fit.primitive.axis);
       const double rival = best >= 0 && cands[best].coverage >= params.min_coverage ? cands[best].coverage : 0.0;
       if (on_rim && disc.round_outline >= params.min_round_outline &&
           disc_round_over_rectangle(s, disc.cylinder.fit.primitive.axis, params) >= kRoundOverRectangle &&

@@ -784,9 +784,11 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
     int dy0 = -w, dx0 = -w;
     while (y + dy0 < 0) dy0 += hop;
     while (x + dx0 < 0) dx0 += hop;
-    for (int dy = dy0; dy <= w && y + dy < f.height; dy += hop) {
+    // ... and the last: both bounds in one compare per step.
+    const int dy1 = std::min(w, f.height - 1 - y), dx1 = std::min(w, f.width - 1 - x);
+    for (int dy = dy0; dy <= dy1; dy += hop) {
       const int row = (y + dy) * f.width;
-      for (int dx = dx0; dx <= w && x + dx < f.width; dx += hop) {
+      for (int dx = dx0; dx <= dx1; dx += hop) {
         const int j = row + x + dx;
         if (label[j] != id) continue;
         const PointXYZRGB& pj = f.points[j];

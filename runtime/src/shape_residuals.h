@@ -31,21 +31,36 @@ inline double circle(const std::array<double, 3>& p, double qa, double qb, Gradi
 // Upright cone p = (axis a, axis b, radius at t = 0, radius at t = 1), t the point's
 // height along the fitted span `span`: the radial miss over the side's slant factor
 // sqrt(1 + slope^2), the distance across the side.
+// The cone's terms that do not depend on the point (its slope, the slant factor and its
+// inverse), for a pass over many points with the same parameters.
+struct ConeTerms {
+  double slope = 0, root = 1, u = 1;
+};
+inline ConeTerms cone_terms(const std::array<double, 4>& p, double span) {
+  ConeTerms k;
+  k.slope = (p[3] - p[2]) / span;
+  k.root = std::sqrt(1 + k.slope * k.slope);
+  k.u = 1 / k.root;
+  return k;
+}
 inline double cone(const std::array<double, 4>& p, double qa, double qb, double t, double span,
-                   Gradient<4>* g) {
+                   const ConeTerms& k, Gradient<4>* g) {
   const double da = qa - p[0], db = qb - p[1];
   const double d = std::sqrt(da * da + db * db);
-  const double slope = (p[3] - p[2]) / span;
-  const double root = std::sqrt(1 + slope * slope);
+  const double slope = k.slope;
   const double e = d - (p[2] + (p[3] - p[2]) * t);
-  const double r = e / root;
+  const double r = e / k.root;
   if (g) {
-    const double u = 1 / root;
+    const double u = k.u;
     // d(1/root)/d(slope) = -slope u^3; d(slope)/d(r0) = -1 / span, d(slope)/d(r1) = 1 / span.
     const double tilt = e * slope * u * u * u / span;
     *g << -over(da, d) * u, -over(db, d) * u, -(1 - t) * u + tilt, -t * u - tilt;
   }
   return r;
+}
+inline double cone(const std::array<double, 4>& p, double qa, double qb, double t, double span,
+                   Gradient<4>* g) {
+  return cone(p, qa, qb, t, span, cone_terms(p, span), g);
 }
 
 // Sphere p = (centre a, b, h, radius).
