@@ -1668,7 +1668,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
              }
              return 2 * covered <= sc.pixels.size();
            },
-           params.shape, TouchingSplitParams{.max_whole_coverage = params.touching_max_coverage, .min_part_points = params.min_whole_points}))
+           params.shape,
+           TouchingSplitParams{.max_whole_coverage = params.touching_max_coverage,
+                               .min_part_points = params.min_whole_points}))
     clusters.push_back({result.clusters[clusters.size()].pixels, clusters[static_cast<size_t>(from)].support});
   for (size_t c = 0; c < clusters.size(); ++c) clusters[c].pixels = result.clusters[c].pixels;
   restack(result, normals, params);

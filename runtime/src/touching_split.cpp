@@ -37,6 +37,16 @@ struct FitTerms {
   bool recognised = false;
 };
 
+// The shape a cluster was given, or when unknown its best candidate (it still explains
+// part of the points); null when none was tried.
+const ShapeFit* fit_of(const ScanCluster& c) {
+  if (!c.shape.primitives.empty()) return &c.shape.primitives.front();
+  const ShapeFit* best = nullptr;
+  for (const ShapeFit& k : c.shape.candidates)
+    if (!best || k.coverage > best->coverage) best = &k;
+  return best;
+}
+
 FitTerms terms_of(const Frame& f, const ScanCluster& c) {
   FitTerms t;
   double z = 0;
@@ -48,12 +58,8 @@ FitTerms terms_of(const Frame& f, const ScanCluster& c) {
     }
   t.pixels = n;
   t.depth = n > 0 ? z / n : 1;
-  const ShapeFit* fit = c.shape.primitives.empty() ? nullptr : &c.shape.primitives.front();
-  t.recognised = fit != nullptr;
-  if (!fit)  // unknown: its best candidate still explains part of the points
-    for (const ShapeFit& k : c.shape.candidates)
-      if (!fit || k.coverage > fit->coverage) fit = &k;
-  if (fit) {
+  t.recognised = !c.shape.primitives.empty();
+  if (const ShapeFit* fit = fit_of(c)) {
     t.coverage = fit->coverage;
     t.rms = fit->rms_m;
     t.parameters = parameters_of(fit->primitive.kind);
@@ -115,15 +121,19 @@ std::vector<char> two_means(const Frame& f, const ScanCluster& c, double min_sha
   ax /= len, ay /= len;
   const double sd = std::sqrt(l1);
   std::array<double, 2> m0{ma - sd * ax, mb - sd * ay}, m1{ma + sd * ax, mb + sd * ay};
-  std::vector<char> side(q.size(), 0);
+  // The means from an even subsample of at most kMeanPoints pixels (a mean of a few
+  // thousand moves by a fraction of a millimetre), then every pixel to the nearer.
+  constexpr size_t kMeanPoints = 2000;
+  const size_t stride = std::max<size_t>(1, q.size() / kMeanPoints);
+  auto nearer_second = [&](const std::array<double, 2>& p) {
+    return std::pow(p[0] - m1[0], 2) + std::pow(p[1] - m1[1], 2) <
+           std::pow(p[0] - m0[0], 2) + std::pow(p[1] - m0[1], 2);
+  };
   for (int it = 0; it < 10; ++it) {
     double s0a = 0, s0b = 0, s1a = 0, s1b = 0;
     int n0 = 0, n1 = 0;
-    for (size_t k = 0; k < q.size(); ++k) {
-      const double d0 = std::pow(q[k][0] - m0[0], 2) + std::pow(q[k][1] - m0[1], 2);
-      const double d1 = std::pow(q[k][0] - m1[0], 2) + std::pow(q[k][1] - m1[1], 2);
-      side[k] = d1 < d0;
-      if (side[k]) {
+    for (size_t k = 0; k < q.size(); k += stride) {
+      if (nearer_second(q[k])) {
         s1a += q[k][0], s1b += q[k][1], ++n1;
       } else {
         s0a += q[k][0], s0b += q[k][1], ++n0;
@@ -133,6 +143,8 @@ std::vector<char> two_means(const Frame& f, const ScanCluster& c, double min_sha
     m0 = {s0a / n0, s0b / n0};
     m1 = {s1a / n1, s1b / n1};
   }
+  std::vector<char> side(q.size(), 0);
+  for (size_t k = 0; k < q.size(); ++k) side[k] = nearer_second(q[k]);
   const auto ones = static_cast<double>(std::count(side.begin(), side.end(), 1));
   if (std::min(ones, n_q - ones) < std::max(min_share * n_q, static_cast<double>(min_points))) return {};
   return side;
@@ -170,6 +182,24 @@ double surface_distance(const ShapeFit& fit, Vec3 p) {
   return 1e9;
 }
 
+// Whether what the cluster's shape leaves out lies on one side of the cut: one primitive
+// over two bodies explains one and leaves the other out (at least two thirds of the
+// pixels it leaves out on one side), while one object's misfit (a carton's open flaps,
+// a wall's waviness) spreads along it. Only then is the cut worth its two fits.
+bool misfit_on_one_side(const Frame& f, const ScanCluster& c, const std::vector<char>& side,
+                        const ShapeRecognizerParams& shape) {
+  const ShapeFit* fit = fit_of(c);
+  if (!fit) return true;
+  double out[2] = {0, 0};
+  const size_t stride = std::max<size_t>(1, side.size() / 2000);  // an even subsample
+  for (size_t k = 0; k < side.size(); k += stride) {
+    const PointXYZRGB& p = f.points[static_cast<size_t>(c.pixels[k])];
+    const double tol = std::max(shape.min_tolerance_m, shape.noise_factor * kinect_sigma_z(p.z));
+    out[side[k] ? 1 : 0] += surface_distance(*fit, Vec3{p.x, p.y, p.z}) > tol;
+  }
+  return 3 * std::max(out[0], out[1]) >= 2 * (out[0] + out[1]);
+}
+
 // The criterion (touching_split.h) of a cut into parts a and b against the whole.
 struct Criterion {
   double one = 0, two = 0;
@@ -203,7 +233,7 @@ std::vector<int> split_touching_pairs(
     const FitTerms whole = terms_of(f, clusters[c]);
     if (whole.coverage >= params.max_whole_coverage || !seen_whole(clusters[c])) continue;
     const std::vector<char> side = two_means(f, clusters[c], params.min_part_share, params.min_part_points);
-    if (side.empty()) continue;
+    if (side.empty() || !misfit_on_one_side(f, clusters[c], side, shape)) continue;
     const int id = static_cast<int>(clusters.size());
     ScanCluster a, b;
     a.support = b.support = clusters[c].support;
