@@ -343,7 +343,8 @@ void tally_feature(BandTally& b, const PhysicalPrimitive& tp, const PhysicalObje
 // other start is a held-out set).
 // `room`: room_scene_params (table heights 0.4-1.1 m, camera roll) instead of
 // world_scene_params.
-void world_set(int scenes, int first_seed, bool room, bool verbose, const std::string& png_dir) {
+void world_set(int scenes, int first_seed, bool room, bool verbose, const std::string& png_dir,
+               const ScanParams& params) {
   const char* bands[] = {"< 1.5 m", "1.5-2.5 m", "> 2.5 m"};
   BandTally tally[3];
   std::map<std::string, std::map<std::string, int>> confusion;
@@ -365,7 +366,7 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
     }
     const SyntheticFrame f = render_scene(*scene);
     const auto t0 = Clock::now();
-    const Result<ScanResult> scan = scan_frame(f.frame, objects_only());
+    const Result<ScanResult> scan = scan_frame(f.frame, params);
     scan_ms.push_back(ms_since(t0));
     ++scans;
     if (!scan) ++failures;
@@ -603,6 +604,9 @@ int main(int argc, char** argv) {
   bool pcl = true, world_only = false, speed_only = false, verbose = false, room = false;
   bool pool_per_scan = false;
   std::string png_dir;
+  // The world set's scan parameters: the benchmarks' (objects only), or a scan config
+  // file's over them (--scan-conf: an A/B run of one rule, e.g. touching_max_coverage 0).
+  ScanParams world_params = objects_only();
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--repeat" && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
@@ -618,13 +622,21 @@ int main(int argc, char** argv) {
     else if (a == "--world-only") world_only = true;
     else if (a == "--verbose") verbose = true;
     else if (a == "--png-dir" && i + 1 < argc) png_dir = argv[++i];
-    else {
-      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N] [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] [--pool-per-scan] [--verbose] [--png-dir DIR]\n");
+    else if (a == "--scan-conf" && i + 1 < argc) {
+      const Result<ScanParams> conf = read_scan_config_file(argv[++i]);
+      if (!conf) {
+        std::fprintf(stderr, "annex-bench-scan: %s\n", conf.error().format().c_str());
+        return 2;
+      }
+      world_params = *conf;
+      world_params.plane_candidates = false;
+    } else {
+      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N] [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] [--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE]\n");
       return 2;
     }
   }
   if (world_only) {
-    world_set(world, world_seed, room, verbose, png_dir);
+    world_set(world, world_seed, room, verbose, png_dir, world_params);
     return 0;
   }
   const std::filesystem::path real =
@@ -641,7 +653,7 @@ int main(int argc, char** argv) {
   else std::printf("speed: ../shared/data/real absent, real frame skipped\n");
   if (speed_only) return 0;
   speed(synthetic(7).frame, "generated scene seed 7", repeat, pcl_repeat, threads, pool_per_scan);
-  if (world > 0) world_set(world, world_seed, room, verbose, png_dir);
+  if (world > 0) world_set(world, world_seed, room, verbose, png_dir, world_params);
   accuracy_and_ransac(scenes, std::min(scenes, 30));
   if (real_frame) real_clusters(*real_frame);
   return 0;

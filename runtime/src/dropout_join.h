@@ -15,7 +15,8 @@
 namespace annex {
 
 struct DropoutJoinParams {
-  // The widest run of missing pixels bridged between two fragments.
+  // The widest run of missing pixels bridged between two fragments (ScanParams::
+  // dropout_max_gap_px says why 8).
   int max_gap_px = 8;
 };
 

@@ -632,6 +632,96 @@ Candidate fit_cylinder(const Samples& s, const std::vector<int>& subset, double 
   return c;
 }
 
+// The cone of parameters x (axis a, b; radius at base and top) over span_ref's heights:
+// valid when it narrows (or widens) clearly.
+Candidate cone_from_parameters(const Candidate& span_ref, const std::array<double, 4>& x,
+                               const ShapeRecognizerParams& params) {
+  Candidate c = span_ref;
+  c.ca = x[0];
+  c.cb = x[1];
+  c.r0 = std::max(0.0, x[2]);
+  c.r1 = std::max(0.0, x[3]);
+  // The tip of a cone is too thin to see: when the side narrows to a small top,
+  // extend it to the apex where the fitted radius reaches zero.
+  if (c.r1 < 0.35 * c.r0 && c.r0 > c.r1) {
+    c.h1 = c.h0 + (c.h1 - c.h0) * c.r0 / (c.r0 - c.r1);
+    c.r1 = 0;
+  }
+  const double wide = std::max(c.r0, c.r1), narrow = std::min(c.r0, c.r1);
+  c.valid = wide >= params.min_radius_m && wide <= params.max_radius_m &&
+            wide - narrow >= params.min_cone_taper * wide && wide - narrow > 0.008;
+  return c;
+}
+
+// Whether a fitted cone is wider than its points: its widest section seen (a bowl's
+// rim, a cone's foot where the height band starts) is part of what the camera sees of a
+// solid standing on the plane, so some of its points lie that far from the axis. Wider
+// by more than the tolerance, the fit converged away from the points (it explains a
+// side by a far larger cone's arc).
+bool cone_wider_than_its_points(const Samples& s, const std::vector<int>& subset, const Candidate& c) {
+  if (subset.empty()) return false;
+  std::vector<double> rho, tol, h;
+  rho.reserve(subset.size());
+  tol.reserve(subset.size());
+  h.reserve(subset.size());
+  for (int i : subset) {
+    rho.push_back(len2(s.p[i].a - c.ca, s.p[i].b - c.cb));
+    tol.push_back(s.tol[i]);
+    h.push_back(s.p[i].h);
+  }
+  const double span = std::max(c.h1 - c.h0, 1e-6);
+  auto radius_at = [&](double z) { return c.r0 + (c.r1 - c.r0) * std::clamp((z - c.h0) / span, 0.0, 1.0); };
+  const double widest_seen = std::max(radius_at(quantile(h, 0.01)), radius_at(quantile(h, 0.99)));
+  return widest_seen > quantile(rho, 0.99) + 2 * quantile(tol, 0.5);
+}
+
+// A second start for the cone fit: the axis through the centre of the footprint's
+// outline (seen from above, per 5-degree direction from the points' middle the farthest
+// point: the rim of a bowl, the base of a cone apex up), the radii from the side's
+// profile about that axis (a straight line through radius against height). False when
+// the outline is not seen round most directions.
+bool cone_start_from_footprint(const Samples& s, const std::vector<int>& subset, const std::vector<int>& side,
+                               double h0, double span, std::array<double, 4>& start) {
+  constexpr int kBins = 72;
+  if (subset.empty() || side.size() < 20) return false;
+  double ma = 0, mb = 0;
+  for (int i : subset) {
+    ma += s.p[i].a;
+    mb += s.p[i].b;
+  }
+  ma /= static_cast<double>(subset.size());
+  mb /= static_cast<double>(subset.size());
+  std::vector<int> far(kBins, -1);
+  std::vector<double> far_r(kBins, 0);
+  for (int i : subset) {
+    const double da = s.p[i].a - ma, db = s.p[i].b - mb, r = len2(da, db);
+    const int b = std::clamp(static_cast<int>((std::atan2(db, da) + kPi) / (2 * kPi) * kBins), 0, kBins - 1);
+    if (r > far_r[b]) {
+      far_r[b] = r;
+      far[b] = i;
+    }
+  }
+  std::vector<std::array<double, 2>> outline;
+  for (int b = 0; b < kBins; ++b)
+    if (far[b] >= 0) outline.push_back({s.p[far[b]].a, s.p[far[b]].b});
+  if (outline.size() < 0.75 * kBins) return false;
+  const Circle rim = kasa_circle(outline);
+  if (!rim.ok) return false;
+  double sh = 0, shh = 0, sr = 0, srh = 0;
+  for (int i : side) {
+    const double t = (s.p[i].h - h0) / span, rho = len2(s.p[i].a - rim.x, s.p[i].b - rim.y);
+    sh += t;
+    shh += t * t;
+    sr += rho;
+    srh += rho * t;
+  }
+  const double n = static_cast<double>(side.size()), den = n * shh - sh * sh;
+  const double k = std::abs(den) > 1e-12 ? (n * srh - sh * sr) / den : 0.0;
+  const double r0 = (sr - k * sh) / n;
+  start = {rim.x, rim.y, r0, r0 + k};
+  return true;
+}
+
 // Upright cone (or frustum): radius linear in height around a common axis, started
 // from the cylinder fit. Valid only when it narrows (or widens) clearly.
 Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candidate& cyl,
@@ -677,29 +767,32 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
   std::array<double, 4> terms_at;
   terms_at.fill(std::numeric_limits<double>::quiet_NaN());
   shape_residuals::ConeTerms terms;
-  refine_sampled<4>(x, static_cast<int>(idx.size()), tol,
-                    [&](const std::array<double, 4>& p, int j, shape_residuals::Gradient<4>* g) {
-                      if (std::memcmp(p.data(), terms_at.data(), sizeof p) != 0) {  // bit for bit
-                        terms = shape_residuals::cone_terms(p, span);
-                        terms_at = p;
-                      }
-                      const Local& q = s.p[idx[j]];
-                      return shape_residuals::cone(p, q.a, q.b, (q.h - span_ref.h0) / span, span, terms, g);
-                    },
-                    params.refine_sample_points);
-  c.ca = x[0];
-  c.cb = x[1];
-  c.r0 = std::max(0.0, x[2]);
-  c.r1 = std::max(0.0, x[3]);
-  // The tip of a cone is too thin to see: when the side narrows to a small top,
-  // extend it to the apex where the fitted radius reaches zero.
-  if (c.r1 < 0.35 * c.r0 && c.r0 > c.r1) {
-    c.h1 = c.h0 + (c.h1 - c.h0) * c.r0 / (c.r0 - c.r1);
-    c.r1 = 0;
+  const auto residual = [&](const std::array<double, 4>& p, int j, shape_residuals::Gradient<4>* g) {
+    if (std::memcmp(p.data(), terms_at.data(), sizeof p) != 0) {  // bit for bit
+      terms = shape_residuals::cone_terms(p, span);
+      terms_at = p;
+    }
+    const Local& q = s.p[idx[j]];
+    return shape_residuals::cone(p, q.a, q.b, (q.h - span_ref.h0) / span, span, terms, g);
+  };
+  refine_sampled<4>(x, static_cast<int>(idx.size()), tol, residual, params.refine_sample_points);
+  c = cone_from_parameters(span_ref, x, params);
+  // Started from a poor cylinder (a flat bowl seen from the side), the fit can run off
+  // to a cone wider than any of its points: a second start from the footprint's circle.
+  if (cone_wider_than_its_points(s, subset, c)) {
+    std::array<double, 4> y{};
+    if (cone_start_from_footprint(s, subset, idx, span_ref.h0, span, y)) {
+      refine_sampled<4>(y, static_cast<int>(idx.size()), tol, residual, params.refine_sample_points);
+      Candidate second = cone_from_parameters(span_ref, y, params);
+      if (second.valid && !cone_wider_than_its_points(s, subset, second)) {
+        if (c.valid) {
+          evaluate(c, s);
+          evaluate(second, s);
+        }
+        if (!c.valid || second.score > c.score) c = second;
+      }
+    }
   }
-  const double wide = std::max(c.r0, c.r1), narrow = std::min(c.r0, c.r1);
-  c.valid = wide >= params.min_radius_m && wide <= params.max_radius_m &&
-            wide - narrow >= params.min_cone_taper * wide && wide - narrow > 0.008;
   return c;
 }
 

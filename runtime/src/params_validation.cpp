@@ -68,6 +68,7 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.positive("max_depth_m", p.max_depth_m);
   c.positive("cluster_tolerance_m", p.cluster_tolerance_m);
   c.at_least("cluster_window_px", p.cluster_window_px, 1);
+  c.at_least("dropout_max_gap_px", p.dropout_max_gap_px, 1);
   c.at_least("min_cluster_points", p.min_cluster_points, 1);
   c.at_least("max_cluster_points", p.max_cluster_points, 1);
   c.non_negative("mls_radius_m", p.mls_radius_m);
@@ -75,6 +76,7 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.range("min_view_cos", p.min_view_cos, 0, 1);
   c.non_negative("part_margin_m", p.part_margin_m);
   c.range("part_share", p.part_share, 0, 1);
+  c.range("touching_max_coverage", p.touching_max_coverage, 0, 1);
   c.positive("shape.min_tolerance_m", p.shape.min_tolerance_m);
   c.non_negative("shape.noise_factor", p.shape.noise_factor);
   c.range("shape.min_coverage", p.shape.min_coverage, 0, 1);

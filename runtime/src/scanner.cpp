@@ -13,6 +13,7 @@
 
 #include "annex/runtime/object_segmenter.h"
 #include "dropout_join.h"
+#include "touching_split.h"
 #include "furniture_rules.h"
 #include "occlusion_join.h"
 #include "scan_pool.h"
@@ -1609,7 +1610,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   const auto tolerance = [&](double z) { return cluster_tolerance(params, z); };
   // A dark object's fragments, parted by its missing depth, joined (dropout_join.h).
   const std::vector<std::vector<int>> grids = join_dropout_fragments(
-      f, mask, grow_clusters(f, mask, seeds, stride, params), stride, tolerance, least_points);
+      f, mask, grow_clusters(f, mask, seeds, stride, params), stride, tolerance, least_points,
+      DropoutJoinParams{params.dropout_max_gap_px});
   // Which supports hold something: a cluster big enough to be an object stands on them
   // (selected or not: the choice of supports does not change what furniture is).
   std::vector<char> holds(ns, 0);
@@ -1794,6 +1796,29 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     ScanCluster& sc = result.clusters[c];
     sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
   }, &fit_order);
+  // Touching bodies one primitive explains poorly, in two (touching_split.h).
+  for (int from : split_touching_pairs(
+           f, result.clusters, normals, label,
+           [&](ScanCluster& sc, int id, std::vector<Vec3>& n) {
+             smooth_cluster(f, sc.pixels, label, id, params, sc.points, n);
+             sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape);
+           },
+           [&](const ScanCluster& sc) {
+             // Not cut by the image's edge (border_px from it), not hidden in half.
+             const int b = std::max(0, params.border_px);
+             size_t covered = 0;
+             for (int i : sc.pixels) {
+               const int x = i % f.width, y = i / f.width;
+               if (x < b || y < b || x >= f.width - b || y >= f.height - b) return false;
+               covered += hidden[static_cast<size_t>(i)];
+             }
+             return 2 * covered <= sc.pixels.size();
+           },
+           params.shape,
+           TouchingSplitParams{.max_whole_coverage = params.touching_max_coverage,
+                               .min_part_points = params.min_whole_points}))
+    clusters.push_back({result.clusters[clusters.size()].pixels, clusters[static_cast<size_t>(from)].support});
+  for (size_t c = 0; c < clusters.size(); ++c) clusters[c].pixels = result.clusters[c].pixels;
   restack(result, normals, params);
   if (params.stack_on_objects) {
     // On a support that is another object's top (stacking.h): that object, by the id.

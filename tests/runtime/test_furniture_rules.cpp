@@ -23,6 +23,9 @@ ScanParams alone() {
   ScanParams p;
   p.partial_when_top_hidden = false;
   p.panel_noise_factor = 0;
+  // Nor cut in two as touching bodies (touching_split.h): with the rules off, a wall's
+  // strip one primitive explains poorly is cut into two flat boxes.
+  p.touching_max_coverage = 0;
   return p;
 }
 

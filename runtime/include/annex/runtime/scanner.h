@@ -124,6 +124,14 @@ struct ScanParams {
   double cluster_tolerance_m = 0.02;
   double cluster_noise_factor = 2.0;
   int cluster_window_px = 2;   // neighbours searched within +-n pixels (bridges dropouts)
+  // A dark surface's fragments under the size floor are joined across runs of missing
+  // depth up to this many pixels (dropout_join.h). Pixels, not metres: the sensor judges
+  // each pixel's return alone, so the runs between returned pixels follow the share of
+  // pixels kept, whatever the depth. 8: where a dark face keeps a quarter of its pixels
+  // a run longer than 8 is left in one direction of ten (0.75^8); 8 pixels span 1.5 cm
+  // at 1 m and 3.8 cm at 2.5 m, under the 5 cm of the smallest object measured, and the
+  // join asks the points to lie as close in 3D as the gap's width at their depth.
+  int dropout_max_gap_px = 8;
   // Full-resolution points at 1 m; farther clusters need fewer (a surface's pixel
   // count falls with the square of depth), never fewer than min_cluster_points_far:
   // a 6 cm ball 2 m away shows about 60 points above the band (80 dropped it). Such
@@ -144,6 +152,12 @@ struct ScanParams {
   double part_share = 0.6;
   // Clusters split at concave creases and depth steps (object_segmenter.h).
   SegmenterParams segment;
+  // A cluster whose shape explains less than this share of its points is tried as two
+  // touching bodies, kept when two primitives explain it better by the information
+  // criterion (touching_split.h). One object's primitive leaves out its handle or the
+  // veil at its edges (0.9 and more on the generated sets), two bodies under one leave
+  // out one of them (0.4 to 0.75). 0: off.
+  double touching_max_coverage = 0.8;
   // An object whose base sits on another object's top is fitted on that top face.
   bool stack_on_objects = true;
   // Pieces of one shape either side of a nearer object, which one primitive explains

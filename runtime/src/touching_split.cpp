@@ -1,0 +1,293 @@
+// Touching bodies one primitive explains poorly, cut in two (touching_split.h).
+#include "touching_split.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "annex/runtime/object_shape_recognizer.h"
+
+namespace annex {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+bool has_depth(const PointXYZRGB& p) { return std::isfinite(p.z) && p.z > 0; }
+
+// Parameters a resting primitive fits given its support (as the recognizer counts
+// them): the axis position, then its sizes (and a box's azimuth).
+int parameters_of(ShapeKind kind) {
+  switch (kind) {
+    case ShapeKind::sphere: return 3;
+    case ShapeKind::cylinder: return 4;
+    case ShapeKind::cone: return 5;
+    case ShapeKind::torus: return 4;
+    case ShapeKind::box: return 6;
+    case ShapeKind::plane: return 5;
+  }
+  return 6;
+}
+
+// What the criterion needs of one fitted cluster.
+struct FitTerms {
+  double pixels = 0;     // full-resolution pixels
+  double depth = 0;      // their mean depth
+  double coverage = 0, rms = 0;
+  int parameters = 0;
+  bool recognised = false;
+};
+
+// The shape a cluster was given, or when unknown its best candidate (it still explains
+// part of the points); null when none was tried.
+const ShapeFit* fit_of(const ScanCluster& c) {
+  if (!c.shape.primitives.empty()) return &c.shape.primitives.front();
+  const ShapeFit* best = nullptr;
+  for (const ShapeFit& k : c.shape.candidates)
+    if (!best || k.coverage > best->coverage) best = &k;
+  return best;
+}
+
+FitTerms terms_of(const Frame& f, const ScanCluster& c) {
+  FitTerms t;
+  double z = 0;
+  int n = 0;
+  for (int i : c.pixels)
+    if (has_depth(f.points[static_cast<size_t>(i)])) {
+      z += f.points[static_cast<size_t>(i)].z;
+      ++n;
+    }
+  t.pixels = n;
+  t.depth = n > 0 ? z / n : 1;
+  t.recognised = !c.shape.primitives.empty();
+  if (const ShapeFit* fit = fit_of(c)) {
+    t.coverage = fit->coverage;
+    t.rms = fit->rms_m;
+    t.parameters = parameters_of(fit->primitive.kind);
+  }
+  return t;
+}
+
+// The independent noise samples among a cluster's pixels: the scanner smooths each
+// point over its neighbours within max(1.2 cm, 3 sigma_z, 6 pixels), so a pixel counts
+// its own area over that neighbourhood's (the recognizer's independent_points).
+double independent(const FitTerms& t) {
+  const double z = t.depth, pixel = z / CameraIntrinsics{}.fx;
+  const double r = std::max({0.012, 3 * kinect_sigma_z(z), 6 * pixel});
+  return std::max(1.0, t.pixels * pixel * pixel / (kPi * r * r));
+}
+
+// The mean squared residual per point in units of the axial noise: explained points
+// at the fit's RMS, the others at least at the fit's tolerance.
+double residual_energy(const FitTerms& t, const ShapeRecognizerParams& shape) {
+  const double sigma = kinect_sigma_z(t.depth);
+  const double tol = std::max(shape.min_tolerance_m, shape.noise_factor * sigma);
+  return t.coverage * (t.rms / sigma) * (t.rms / sigma) + (1 - t.coverage) * (tol / sigma) * (tol / sigma);
+}
+
+// The cluster's pixels in two by two means of their footprint on the support, started
+// at the ends of its long axis; empty when either part is too small (under min_share of
+// the pixels or min_points).
+std::vector<char> two_means(const Frame& f, const ScanCluster& c, double min_share, int min_points) {
+  const Vec3 n = c.support.normal;
+  const Vec3 seed = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  const Vec3 e1 = normalized(cross(n, seed)), e2 = cross(n, e1);
+  std::vector<std::array<double, 2>> q;
+  q.reserve(c.pixels.size());
+  double ma = 0, mb = 0;
+  for (int i : c.pixels) {
+    const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
+    const Vec3 v{p.x, p.y, p.z};
+    q.push_back({dot(v, e1), dot(v, e2)});
+    ma += q.back()[0];
+    mb += q.back()[1];
+  }
+  if (q.size() < 2) return {};
+  ma /= static_cast<double>(q.size());
+  mb /= static_cast<double>(q.size());
+  double saa = 0, sab = 0, sbb = 0;
+  for (const auto& p : q) {
+    saa += (p[0] - ma) * (p[0] - ma);
+    sab += (p[0] - ma) * (p[1] - mb);
+    sbb += (p[1] - mb) * (p[1] - mb);
+  }
+  const double n_q = static_cast<double>(q.size());
+  saa /= n_q, sab /= n_q, sbb /= n_q;
+  // The long axis: the covariance's larger eigenvector.
+  const double tr = saa + sbb, det = saa * sbb - sab * sab;
+  const double l1 = tr / 2 + std::sqrt(std::max(0.0, tr * tr / 4 - det));
+  double ax = std::abs(sab) > 1e-15 ? l1 - sbb : (saa >= sbb ? 1 : 0), ay = std::abs(sab) > 1e-15 ? sab : (saa >= sbb ? 0 : 1);
+  const double len = std::sqrt(ax * ax + ay * ay);
+  if (len <= 0 || l1 <= 0) return {};
+  ax /= len, ay /= len;
+  const double sd = std::sqrt(l1);
+  std::array<double, 2> m0{ma - sd * ax, mb - sd * ay}, m1{ma + sd * ax, mb + sd * ay};
+  // The means from an even subsample of at most kMeanPoints pixels (a mean of a few
+  // thousand moves by a fraction of a millimetre), then every pixel to the nearer.
+  constexpr size_t kMeanPoints = 2000;
+  const size_t stride = std::max<size_t>(1, q.size() / kMeanPoints);
+  auto nearer_second = [&](const std::array<double, 2>& p) {
+    return std::pow(p[0] - m1[0], 2) + std::pow(p[1] - m1[1], 2) <
+           std::pow(p[0] - m0[0], 2) + std::pow(p[1] - m0[1], 2);
+  };
+  for (int it = 0; it < 10; ++it) {
+    double s0a = 0, s0b = 0, s1a = 0, s1b = 0;
+    int n0 = 0, n1 = 0;
+    for (size_t k = 0; k < q.size(); k += stride) {
+      if (nearer_second(q[k])) {
+        s1a += q[k][0], s1b += q[k][1], ++n1;
+      } else {
+        s0a += q[k][0], s0b += q[k][1], ++n0;
+      }
+    }
+    if (n0 == 0 || n1 == 0) return {};
+    m0 = {s0a / n0, s0b / n0};
+    m1 = {s1a / n1, s1b / n1};
+  }
+  std::vector<char> side(q.size(), 0);
+  for (size_t k = 0; k < q.size(); ++k) side[k] = nearer_second(q[k]);
+  const auto ones = static_cast<double>(std::count(side.begin(), side.end(), 1));
+  if (std::min(ones, n_q - ones) < std::max(min_share * n_q, static_cast<double>(min_points))) return {};
+  return side;
+}
+
+// Distance from p to the surface of a fitted primitive (its solid's boundary).
+double surface_distance(const ShapeFit& fit, Vec3 p) {
+  const PhysicalPrimitive& q = fit.primitive;
+  const Vec3 d = p - q.center;
+  const double t = dot(d, q.axis);
+  const double rho = norm(d - q.axis * t);
+  const auto dim = [&](size_t k) { return k < q.dimensions_m.size() ? q.dimensions_m[k] : 0.0; };
+  // A solid of revolution whose radius runs from r_lo at t = -h to r_hi at t = +h.
+  const auto revolved = [&](double r_lo, double r_hi, double h) {
+    const double r_at = r_lo + (r_hi - r_lo) * (std::clamp(t, -h, h) + h) / std::max(2 * h, 1e-9);
+    const double out_r = rho - r_at, out_t = std::abs(t) - h;
+    if (out_r <= 0 && out_t <= 0) return std::min(-out_r, -out_t);
+    return std::sqrt(std::pow(std::max(out_r, 0.0), 2) + std::pow(std::max(out_t, 0.0), 2));
+  };
+  switch (q.kind) {
+    case ShapeKind::sphere: return std::abs(norm(d) - dim(0));
+    case ShapeKind::cylinder: return revolved(dim(0), dim(0), dim(1) / 2);
+    case ShapeKind::cone: return revolved(dim(0), q.narrow_radius_m, dim(1) / 2);
+    case ShapeKind::torus: return std::abs(std::hypot(rho - dim(0), t) - dim(1));
+    case ShapeKind::box: {
+      const Vec3 y = cross(q.axis, fit.x_axis);
+      const double o[3] = {std::abs(dot(d, fit.x_axis)) - dim(0) / 2, std::abs(dot(d, y)) - dim(1) / 2,
+                           std::abs(t) - dim(2) / 2};
+      if (o[0] <= 0 && o[1] <= 0 && o[2] <= 0) return -std::max({o[0], o[1], o[2]});
+      return std::sqrt(std::pow(std::max(o[0], 0.0), 2) + std::pow(std::max(o[1], 0.0), 2) +
+                       std::pow(std::max(o[2], 0.0), 2));
+    }
+    case ShapeKind::plane: return std::abs(t);
+  }
+  return 1e9;
+}
+
+// Whether what the cluster's shape leaves out lies on one side of the cut: one primitive
+// over two bodies explains one and leaves the other out (at least two thirds of the
+// pixels it leaves out on one side), while one object's misfit (a carton's open flaps,
+// a wall's waviness) spreads along it. Only then is the cut worth its two fits.
+bool misfit_on_one_side(const Frame& f, const ScanCluster& c, const std::vector<char>& side,
+                        const ShapeRecognizerParams& shape) {
+  const ShapeFit* fit = fit_of(c);
+  if (!fit) return true;
+  double out[2] = {0, 0};
+  const size_t stride = std::max<size_t>(1, side.size() / 2000);  // an even subsample
+  for (size_t k = 0; k < side.size(); k += stride) {
+    const PointXYZRGB& p = f.points[static_cast<size_t>(c.pixels[k])];
+    const double tol = std::max(shape.min_tolerance_m, shape.noise_factor * kinect_sigma_z(p.z));
+    out[side[k] ? 1 : 0] += surface_distance(*fit, Vec3{p.x, p.y, p.z}) > tol;
+  }
+  return 3 * std::max(out[0], out[1]) >= 2 * (out[0] + out[1]);
+}
+
+// The criterion (touching_split.h) of a cut into parts a and b against the whole.
+struct Criterion {
+  double one = 0, two = 0;
+};
+
+Criterion criterion(const FitTerms& whole, const FitTerms& a, const FitTerms& b, const ShapeRecognizerParams& shape) {
+  // Over the same independent points: one primitive against two and the cut (its
+  // position and direction).
+  const double n_a = independent(a), n_b = independent(b), n = n_a + n_b;
+  const double ln = std::log(std::max(n, 2.0));
+  return {n * residual_energy(whole, shape) + whole.parameters * ln,
+          n_a * residual_energy(a, shape) + n_b * residual_energy(b, shape) + (a.parameters + b.parameters + 2) * ln};
+}
+
+// Both parts explained as well as a cluster must be not to be tried (a part explained
+// worse is no body of its own: a wall's patch, a piece of furniture).
+bool both_recognised(const FitTerms& a, const FitTerms& b, double least) {
+  return a.recognised && b.recognised && a.coverage >= least && b.coverage >= least;
+}
+
+}  // namespace
+
+std::vector<int> split_touching_pairs(
+    const Frame& f, std::vector<ScanCluster>& clusters, std::vector<std::vector<Vec3>>& normals,
+    std::vector<int>& label, const std::function<void(ScanCluster&, int, std::vector<Vec3>&)>& refit,
+    const std::function<bool(const ScanCluster&)>& seen_whole, const ShapeRecognizerParams& shape,
+    const TouchingSplitParams& params) {
+  std::vector<int> origin;
+  const size_t count = clusters.size();
+  for (size_t c = 0; c < count; ++c) {
+    const FitTerms whole = terms_of(f, clusters[c]);
+    if (whole.coverage >= params.max_whole_coverage || !seen_whole(clusters[c])) continue;
+    const std::vector<char> side = two_means(f, clusters[c], params.min_part_share, params.min_part_points);
+    if (side.empty() || !misfit_on_one_side(f, clusters[c], side, shape)) continue;
+    const int id = static_cast<int>(clusters.size());
+    ScanCluster a, b;
+    a.support = b.support = clusters[c].support;
+    for (size_t k = 0; k < side.size(); ++k) (side[k] ? b : a).pixels.push_back(clusters[c].pixels[k]);
+    for (int i : b.pixels) label[static_cast<size_t>(i)] = id;
+    std::vector<Vec3> na, nb;
+    refit(a, static_cast<int>(c), na);
+    refit(b, id, nb);
+    FitTerms ta = terms_of(f, a), tb = terms_of(f, b);
+    bool keep = both_recognised(ta, tb, params.max_whole_coverage);
+    if (keep) {
+      Criterion k = criterion(whole, ta, tb, shape);
+      // The means' cut is straight; where the two bodies meet each pixel lies on one of
+      // the two fitted surfaces: once more with each pixel given to the nearer.
+      ScanCluster a2, b2;
+      a2.support = b2.support = a.support;
+      for (int i : clusters[c].pixels) {
+        const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
+        const Vec3 v{p.x, p.y, p.z};
+        (surface_distance(b.shape.primitives.front(), v) < surface_distance(a.shape.primitives.front(), v) ? b2 : a2)
+            .pixels.push_back(i);
+      }
+      const double least = std::max(params.min_part_share * static_cast<double>(clusters[c].pixels.size()),
+                                    static_cast<double>(params.min_part_points));
+      if (static_cast<double>(std::min(a2.pixels.size(), b2.pixels.size())) >= least &&
+          (a2.pixels != a.pixels)) {
+        for (int i : a2.pixels) label[static_cast<size_t>(i)] = static_cast<int>(c);
+        for (int i : b2.pixels) label[static_cast<size_t>(i)] = id;
+        std::vector<Vec3> na2, nb2;
+        refit(a2, static_cast<int>(c), na2);
+        refit(b2, id, nb2);
+        const FitTerms ta2 = terms_of(f, a2), tb2 = terms_of(f, b2);
+        const Criterion k2 = criterion(whole, ta2, tb2, shape);
+        if (both_recognised(ta2, tb2, params.max_whole_coverage) && k2.two < k.two) {
+          a = std::move(a2), b = std::move(b2), na = std::move(na2), nb = std::move(nb2);
+          k = k2;
+        } else {
+          for (int i : a.pixels) label[static_cast<size_t>(i)] = static_cast<int>(c);
+          for (int i : b.pixels) label[static_cast<size_t>(i)] = id;
+        }
+      }
+      keep = k.two < k.one;
+    }
+    if (!keep) {
+      for (int i : b.pixels) label[static_cast<size_t>(i)] = static_cast<int>(c);
+      continue;
+    }
+    clusters[c] = std::move(a);
+    normals[c] = std::move(na);
+    clusters.push_back(std::move(b));
+    normals.push_back(std::move(nb));
+    origin.push_back(static_cast<int>(c));
+  }
+  return origin;
+}
+
+}  // namespace annex

@@ -1,0 +1,46 @@
+#pragma once
+// Two convex bodies that touch (a ball against a tin, two tins side by side) are one
+// cluster when no crease between them stands above the depth noise (far away, or where
+// they meet along a line the camera looks down on); one primitive then explains their
+// points poorly. Such a cluster is cut in two where its footprint on the support holds
+// two blobs (two means along its long axis); when what the one primitive leaves out lies
+// on one side of that cut (one body explained, the other not), each part is fitted
+// again, and the two kept
+// when they explain the points better than the one by the information criterion: the
+// residuals in units of the Kinect's axial noise at their depth, a point the fit leaves
+// out costing as much as one at the fit's tolerance, against ln(n) per parameter (each
+// part's shape and the cut's two) over the independent points. Private to the scanner.
+
+#include <functional>
+#include <vector>
+
+#include "annex/runtime/frame.h"
+#include "annex/runtime/scanner.h"
+
+namespace annex {
+
+struct TouchingSplitParams {
+  // Only a cluster whose shape explains less than this share of its points is tried
+  // (ScanParams::touching_max_coverage); 0: none.
+  double max_whole_coverage = 0.8;
+  // Each part holds at least this share of the cluster's pixels (the segmenter's
+  // min_object_share: smaller is a part of one object, not an object).
+  double min_part_share = 0.08;
+  // ... and at least this many pixels (the scanner's min_whole_points): a smaller part
+  // would be reported partial, and far away a few independent samples cannot tell one
+  // primitive from two.
+  int min_part_points = 400;
+};
+
+// refit(cluster, id, normals): smooths cluster (its pixels labelled `id` in `label`)
+// and fits its shape, filling its normals. Only clusters seen_whole() are tried: one
+// cut by the image border or hidden in part fits poorly for what is missing of it. Split clusters keep their index (the first
+// part) and append the second part at the end (clusters, normals and label updated);
+// returns, for each appended cluster, the index of the cluster it was cut from.
+std::vector<int> split_touching_pairs(
+    const Frame& frame, std::vector<ScanCluster>& clusters, std::vector<std::vector<Vec3>>& normals,
+    std::vector<int>& label, const std::function<void(ScanCluster&, int, std::vector<Vec3>&)>& refit,
+    const std::function<bool(const ScanCluster&)>& seen_whole, const ShapeRecognizerParams& shape,
+    const TouchingSplitParams& params = {});
+
+}  // namespace annex
