@@ -127,4 +127,28 @@ bool foot_unseen(const Frame& f, const std::vector<int>& grid, int step,
   return looked >= 3 && 2 * unseen > looked;
 }
 
+bool foot_cut_by_bottom(const Frame& f, const std::vector<int>& pixels, int bottom,
+                        const ScanParams& params, const ToleranceAt& band) {
+  if (!params.foot_at_border) return false;
+  const std::map<int, int> ends = end_per_column(f, pixels, false);
+  const double fy = CameraIntrinsics{}.fy;
+  int cut = 0;
+  for (const auto& [col, i] : ends) {
+    const int y = i / f.width;
+    const double z = f.points[static_cast<size_t>(i)].z;
+    // The rows the support's band spans below the lowest pixel, seen face-on.
+    const double band_m = std::max(params.min_height_m, band(z));
+    const int band_rows = static_cast<int>(std::ceil(fy * band_m / std::max(z, 0.1)));
+    bool off = y > bottom - std::max(0, params.border_px) - band_rows;
+    if (!off && y < bottom) {
+      off = true;
+      for (int r = y + 1; r <= bottom && off; ++r)
+        off = !valid(f.points[static_cast<size_t>(r * f.width + col)]);
+    }
+    cut += off;
+    if (cut >= 3) return true;
+  }
+  return false;
+}
+
 }  // namespace annex

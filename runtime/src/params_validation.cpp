@@ -75,6 +75,7 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.range("min_view_cos", p.min_view_cos, 0, 1);
   c.non_negative("part_margin_m", p.part_margin_m);
   c.range("part_share", p.part_share, 0, 1);
+  c.range("min_support_seen_share", p.min_support_seen_share, 0, 1);
   c.positive("shape.min_tolerance_m", p.shape.min_tolerance_m);
   c.non_negative("shape.noise_factor", p.shape.noise_factor);
   c.range("shape.min_coverage", p.shape.min_coverage, 0, 1);
