@@ -4,6 +4,7 @@
 #include "annex/runtime/object_shape_recognizer.h"
 #include "smallest_eigenvector.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -129,11 +130,22 @@ bool foot_unseen(const Frame& f, const std::vector<int>& grid, int step,
 
 bool foot_cut_by_bottom(const Frame& f, const std::vector<int>& pixels, int bottom,
                         const ScanParams& params, const ToleranceAt& band) {
-  if (!params.foot_at_border) return false;
-  const std::map<int, int> ends = end_per_column(f, pixels, false);
+  if (!params.foot_at_border || pixels.empty()) return false;
+  // Each column's lowest pixel, on a row of columns: an object's pixels run to tens of
+  // thousands (a map per pixel cost more than the rest of the partial tests together).
+  int lo_col = f.width, hi_col = -1;
+  for (int i : pixels) lo_col = std::min(lo_col, i % f.width), hi_col = std::max(hi_col, i % f.width);
+  std::vector<int> lowest(static_cast<size_t>(hi_col - lo_col + 1), -1);
+  for (int i : pixels) {
+    int& l = lowest[static_cast<size_t>(i % f.width - lo_col)];
+    l = std::max(l, i);
+  }
   const double fy = CameraIntrinsics{}.fy;
   int cut = 0;
-  for (const auto& [col, i] : ends) {
+  for (size_t c = 0; c < lowest.size(); ++c) {
+    const int i = lowest[c];
+    if (i < 0) continue;
+    const int col = lo_col + static_cast<int>(c);
     const int y = i / f.width;
     const double z = f.points[static_cast<size_t>(i)].z;
     // The rows the support's band spans below the lowest pixel, seen face-on.

@@ -35,16 +35,16 @@ struct Seen {
   int found = 0;  // truth objects, not cut by the border, that some scanned object shows
 };
 
-// `rooms`: room_scene_params (the held-out rooms) without the objects on the shelf's
-// boards, as the rooms were when these cases were found; else world_scene_params. With
-// those objects, the wall's slice in rooms 5073 and 7014 is no longer what the cut-top
-// rule takes, and only the partial rules catch it (the bench's rooms figures count it).
-Seen scan_seeds(const std::vector<std::uint64_t>& seeds, bool rooms, int label,
-                const ScanParams& params) {
-  Seen seen;
+// Each seed's scene scanned with `params`: the held-out rooms (room_scene_params) when
+// `rooms`, without the objects on the shelf's boards unless `shelf_objects`, else
+// world_scene_params. `each(scene, frame, scan, owners)` gets each scanned object's
+// majority label.
+template <class F>
+void for_each_scan(const std::vector<std::uint64_t>& seeds, bool rooms, bool shelf_objects,
+                   const ScanParams& params, F each) {
   for (std::uint64_t seed : seeds) {
     SyntheticSceneParams scene_params = rooms ? room_scene_params(seed) : world_scene_params(seed);
-    if (rooms) scene_params.shelf_objects = 0;
+    if (rooms && !shelf_objects) scene_params.shelf_objects = 0;
     const Result<SyntheticScene> scene = generate_scene(scene_params);
     EXPECT_TRUE(scene.ok()) << "seed " << seed;
     if (!scene) continue;
@@ -52,14 +52,34 @@ Seen scan_seeds(const std::vector<std::uint64_t>& seeds, bool rooms, int label,
     const Result<ScanResult> scan = scan_frame(f.frame, params);
     EXPECT_TRUE(scan.ok()) << "seed " << seed << ": " << (scan ? "" : scan.error().format());
     if (!scan) continue;
-    std::set<int> shown;
-    for (size_t k = 0; k < scan->clusters.size(); ++k) {
-      const int owner = majority_label(f, scan->clusters[k]);
-      if (owner == label && !scan->scene.objects[k].partial) ++seen.whole;
-      if (owner >= 0 && !f.truth.objects[static_cast<size_t>(owner)].partial) shown.insert(owner);
-    }
-    seen.found += static_cast<int>(shown.size());
+    std::vector<int> owners;
+    for (const ScanCluster& c : scan->clusters) owners.push_back(majority_label(f, c));
+    each(*scene, f, *scan, owners);
   }
+}
+
+// The truth objects, not cut by the border, that some scanned object shows.
+std::set<int> shown_objects(const SyntheticFrame& f, const std::vector<int>& owners) {
+  std::set<int> shown;
+  for (int owner : owners)
+    if (owner >= 0 && !f.truth.objects[static_cast<size_t>(owner)].partial) shown.insert(owner);
+  return shown;
+}
+
+// `rooms`: room_scene_params (the held-out rooms) without the objects on the shelf's
+// boards, as the rooms were when these cases were found; else world_scene_params. With
+// those objects, the wall's slice in rooms 5073 and 7014 is no longer what the cut-top
+// rule takes, and only the partial rules catch it (the bench's rooms figures count it).
+Seen scan_seeds(const std::vector<std::uint64_t>& seeds, bool rooms, int label,
+                const ScanParams& params) {
+  Seen seen;
+  for_each_scan(seeds, rooms, false, params,
+                [&](const SyntheticScene&, const SyntheticFrame& f, const ScanResult& scan,
+                    const std::vector<int>& owners) {
+                  for (size_t k = 0; k < owners.size(); ++k)
+                    seen.whole += owners[k] == label && !scan.scene.objects[k].partial;
+                  seen.found += static_cast<int>(shown_objects(f, owners).size());
+                });
   return seen;
 }
 
@@ -148,27 +168,19 @@ struct OnBoards {
 
 OnBoards scan_boards(const std::vector<std::uint64_t>& seeds, const ScanParams& params) {
   OnBoards seen;
-  for (std::uint64_t seed : seeds) {
-    const Result<SyntheticScene> scene = generate_scene(room_scene_params(seed));
-    EXPECT_TRUE(scene.ok()) << "seed " << seed;
-    if (!scene) continue;
-    const SyntheticFrame f = render_scene(*scene);
-    const Result<ScanResult> scan = scan_frame(f.frame, params);
-    EXPECT_TRUE(scan.ok()) << "seed " << seed << ": " << (scan ? "" : scan.error().format());
-    if (!scan) continue;
-    std::set<int> shown;
-    for (size_t k = 0; k < scan->clusters.size(); ++k) {
-      const int owner = majority_label(f, scan->clusters[k]);
-      if (owner == kLabelShelf && !scan->scene.objects[k].partial) ++seen.shelf_props;
-      if (owner >= 0 && !f.truth.objects[static_cast<size_t>(owner)].partial) shown.insert(owner);
-    }
-    seen.found += static_cast<int>(shown.size());
-    for (int t : shown) {
-      const SyntheticObject& o = scene->objects[static_cast<size_t>(t)];
-      seen.on_boards += o.support > 0 &&
-                        scene->furniture[static_cast<size_t>(o.support - 1)].role == SyntheticBlock::Role::shelf;
-    }
-  }
+  for_each_scan(seeds, true, true, params,
+                [&](const SyntheticScene& scene, const SyntheticFrame& f, const ScanResult& scan,
+                    const std::vector<int>& owners) {
+                  for (size_t k = 0; k < owners.size(); ++k)
+                    seen.shelf_props += owners[k] == kLabelShelf && !scan.scene.objects[k].partial;
+                  const std::set<int> shown = shown_objects(f, owners);
+                  seen.found += static_cast<int>(shown.size());
+                  for (int t : shown) {
+                    const SyntheticObject& o = scene.objects[static_cast<size_t>(t)];
+                    seen.on_boards += o.support > 0 && scene.furniture[static_cast<size_t>(o.support - 1)].role ==
+                                                           SyntheticBlock::Role::shelf;
+                  }
+                });
   return seen;
 }
 
@@ -215,23 +227,17 @@ struct Slivers {
 
 Slivers scan_slivers(const std::vector<std::uint64_t>& seeds, bool rooms, const ScanParams& params) {
   Slivers seen;
-  for (std::uint64_t seed : seeds) {
-    const Result<SyntheticScene> scene = generate_scene(rooms ? room_scene_params(seed) : world_scene_params(seed));
-    EXPECT_TRUE(scene.ok()) << "seed " << seed;
-    if (!scene) continue;
-    const SyntheticFrame f = render_scene(*scene);
-    const Result<ScanResult> scan = scan_frame(f.frame, params);
-    EXPECT_TRUE(scan.ok()) << "seed " << seed;
-    if (!scan) continue;
-    for (size_t k = 0; k < scan->clusters.size(); ++k) {
-      const int owner = majority_label(f, scan->clusters[k]);
-      if (owner < 0 || scan->scene.objects[k].partial) continue;
-      if (f.truth.objects[static_cast<size_t>(owner)].partial)
-        ++seen.slivers;
-      else
-        ++seen.whole;
-    }
-  }
+  for_each_scan(seeds, rooms, true, params,
+                [&](const SyntheticScene&, const SyntheticFrame& f, const ScanResult& scan,
+                    const std::vector<int>& owners) {
+                  for (size_t k = 0; k < owners.size(); ++k) {
+                    if (owners[k] < 0 || scan.scene.objects[k].partial) continue;
+                    if (f.truth.objects[static_cast<size_t>(owners[k])].partial)
+                      ++seen.slivers;
+                    else
+                      ++seen.whole;
+                  }
+                });
   return seen;
 }
 
