@@ -4,6 +4,7 @@
 #include "annex/runtime/object_shape_recognizer.h"
 #include "smallest_eigenvector.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -125,6 +126,41 @@ bool foot_unseen(const Frame& f, const std::vector<int>& grid, int step,
   }
   // Columns at the image's bottom show nothing below: they count for neither.
   return looked >= 3 && 2 * unseen > looked;
+}
+
+bool foot_cut_by_bottom(const Frame& f, const std::vector<int>& pixels, int bottom,
+                        const ScanParams& params, const ToleranceAt& band) {
+  if (!params.foot_at_border || pixels.empty()) return false;
+  // Each column's lowest pixel, on a row of columns: an object's pixels run to tens of
+  // thousands (a map per pixel cost more than the rest of the partial tests together).
+  int lo_col = f.width, hi_col = -1;
+  for (int i : pixels) lo_col = std::min(lo_col, i % f.width), hi_col = std::max(hi_col, i % f.width);
+  std::vector<int> lowest(static_cast<size_t>(hi_col - lo_col + 1), -1);
+  for (int i : pixels) {
+    int& l = lowest[static_cast<size_t>(i % f.width - lo_col)];
+    l = std::max(l, i);
+  }
+  const double fy = CameraIntrinsics{}.fy;
+  int cut = 0;
+  for (size_t c = 0; c < lowest.size(); ++c) {
+    const int i = lowest[c];
+    if (i < 0) continue;
+    const int col = lo_col + static_cast<int>(c);
+    const int y = i / f.width;
+    const double z = f.points[static_cast<size_t>(i)].z;
+    // The rows the support's band spans below the lowest pixel, seen face-on.
+    const double band_m = std::max(params.min_height_m, band(z));
+    const int band_rows = static_cast<int>(std::ceil(fy * band_m / std::max(z, 0.1)));
+    bool off = y > bottom - std::max(0, params.border_px) - band_rows;
+    if (!off && y < bottom) {
+      off = true;
+      for (int r = y + 1; r <= bottom && off; ++r)
+        off = !valid(f.points[static_cast<size_t>(r * f.width + col)]);
+    }
+    cut += off;
+    if (cut >= 3) return true;
+  }
+  return false;
 }
 
 }  // namespace annex

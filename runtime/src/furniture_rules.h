@@ -58,4 +58,14 @@ bool foot_unseen(const Frame& f, const std::vector<int>& grid, int step,
 // is a chair's back or a cabinet's side rising behind the table: flagged partial.
 bool upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up, const ScanParams& params);
 
+// Whether the cluster's foot runs off the image's bottom edge (`bottom`: the last row
+// that holds depth), unseen: in at least three of its columns its lowest pixel is within
+// border_px of that row plus the rows its support's band spans at its depth (an object's
+// lowest min_height_m lies in the band and is no cluster pixel, 13 rows half a metre
+// away), or no pixel below it down to that row holds depth (a dark or too-near foot).
+// Such an object is cut by the border as surely as one whose pixels reach it: no one sees
+// where it ends (params.foot_at_border; a border sliver of the near table's objects).
+bool foot_cut_by_bottom(const Frame& f, const std::vector<int>& pixels, int bottom,
+                        const ScanParams& params, const ToleranceAt& band);
+
 }  // namespace annex

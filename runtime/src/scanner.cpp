@@ -986,6 +986,35 @@ bool on_plane(const PlaneFit& plane, const std::vector<Vec3>& sample, double gap
   return std::abs(hs[hs.size() / 2]) < gap;
 }
 
+// The area a support's strided pixels cover on its plane: each pixel's footprint at its
+// depth, (z / fx)^2 widened by 1 / cos of the view's angle to the plane's normal, times
+// the stride's cells. What a count of pixels means in square metres depends on both: a
+// board 2 m away seen at a grazing angle covers 30 times a near table's area per pixel.
+double seen_area_m2(const Frame& f, const std::vector<int>& members, const PlaneFit& plane,
+                    int stride) {
+  const double fx = CameraIntrinsics{}.fx;
+  double area = 0;
+  for (int i : members) {
+    const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
+    const double r = norm(p);
+    // A ray within 2.5 degrees of the plane is seen edge-on: its footprint is unbounded.
+    const double cos_view = std::max(0.045, std::abs(dot(plane.n, p)) / std::max(r, 1e-9));
+    area += (p.z / fx) * (p.z / fx) / cos_view;
+  }
+  return area * stride * stride;
+}
+
+// Whether a later support's pixels are enough: min_plane_points of them, or (at depth)
+// a seen area of min_support_seen_share times min_support_area_m2 (seen_area_m2).
+bool holds_support(const Frame& f, const std::vector<int>& members, const PlaneFit& plane,
+                   const ScanParams& params) {
+  const int stride = std::max(1, params.pixel_stride);
+  if (static_cast<long long>(members.size()) * stride * stride >= params.min_plane_points) return true;
+  return params.min_support_seen_share > 0 &&
+         seen_area_m2(f, members, plane, stride) >=
+             params.min_support_seen_share * params.min_support_area_m2;
+}
+
 }  // namespace
 
 namespace {
@@ -1183,7 +1212,7 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
         inlier_cells.push_back(pool_cells[k]);
       }
     }
-    if (!planes.empty() && static_cast<int>(inliers.size()) * stride * stride < params.min_plane_points) {
+    if (!planes.empty() && !holds_support(f, inliers, ps.plane, params)) {
       // Too few points at this height (an object's top): its up-facing points leave
       // the candidates, and the next band is tried.
       for (size_t k : at_peak) pool_up[k] = 0;
@@ -1221,9 +1250,11 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
         for (size_t k = 0; k < pool.size(); ++k) first_h[k] = dot(ps.plane.n, pool_pts[k]) + ps.plane.d;
       }
     });
-    int total = 0;
-    for (const PlaneRegions& r : regions) total += static_cast<int>(r.members.size()) * stride * stride;
-    if (total < params.min_plane_points) continue;
+    std::vector<int> members;
+    for (const PlaneRegions& r : regions) members.insert(members.end(), r.members.begin(), r.members.end());
+    if (first_plane ? static_cast<long long>(members.size()) * stride * stride < params.min_plane_points
+                    : !holds_support(f, members, ps.plane, params))
+      continue;
     // Later supports share the first one's up once refined (single RANSAC triples on
     // a far, noisy floor scatter by more than that).
     if (!planes.empty() && dot(ps.plane.n, planes.front().first.n) < cos_tilt) continue;
@@ -1245,9 +1276,12 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
     // this, such a band below the table was taken for the floor (the lowest plane keeps
     // all its regions: samples/recordings/tabletop's wall, 32 cm below its table).
     if (!planes.empty()) {
-      size_t above = 0;
-      for (const PlaneRegions& r : regions) above += seen_from_above(f, r, ps.plane, params).members.size();
-      if (static_cast<long long>(above) * stride * stride < params.min_plane_points) continue;
+      std::vector<int> above;
+      for (const PlaneRegions& r : regions) {
+        const std::vector<int> seen = seen_from_above(f, r, ps.plane, params).members;
+        above.insert(above.end(), seen.begin(), seen.end());
+      }
+      if (!holds_support(f, above, ps.plane, params)) continue;
     }
     planes.emplace_back(ps.plane, std::move(regions));
     if (up_ready) clear_near(ps.plane);
@@ -1279,7 +1313,7 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
       fd.plane = plane;
       fd.regions = seen_from_above(f, region, plane, params);
       fd.points = static_cast<int>(fd.regions.members.size()) * stride * stride;
-      if (fd.points < params.min_plane_points) continue;
+      if (!holds_support(f, fd.regions.members, plane, params)) continue;
       if (hull_area(convex_hull(fd.regions.hull_points, fd.plane.n)) < params.min_support_area_m2)
         continue;
       found.push_back(std::move(fd));
@@ -1690,8 +1724,11 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     // top the support is (a storage box, a stool) and is kept. Widths are measured
     // along the camera's x axis laid on the plane: a box seen face-on shows no depth,
     // but its full width.
+    // Only on the lowest support (the floor): what stands on a raised one under a
+    // higher one is that board's content (a shelf's lower board, a desk under its
+    // hutch), not what holds the higher one up.
     bool under = false;
-    for (size_t o = 0; o < ns && !under; ++o) {
+    for (size_t o = 0; o < ns && !under && (k == static_cast<int>(lowest) || !params.legs_on_lowest_only); ++o) {
       if (static_cast<int>(o) == k) continue;
       const PlaneFit& top = found[o].plane;
       if (top.d >= plane.d || dot(top.n, plane.n) < cos_tilt) continue;  // not above it
@@ -1889,6 +1926,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     left = first(cols, gh / 5) * stride, right = last(cols, gh / 5) * stride + stride - 1;
   }
   const int border = std::max(0, params.border_px);
+  const auto band_at = [&](double z) { return plane_band(params, z); };
   for (const ScanCluster& sc : result.clusters) {
     PhysicalObject obj;
     for (const ShapeFit& fit : sc.shape.primitives) obj.primitives.push_back(fit.primitive);
@@ -1904,7 +1942,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     }
     size_t covered = 0;
     for (int i : sc.pixels) covered += hidden[static_cast<size_t>(i)];
-    obj.partial = at_border >= 3 || obj.point_count < params.min_whole_points ||
+    obj.partial = at_border >= 3 || foot_cut_by_bottom(f, sc.pixels, bottom, params, band_at) ||
+                  obj.point_count < params.min_whole_points ||
                   2 * covered > sc.pixels.size() || sc.shape.depth_unseen;
     result.scene.objects.push_back(std::move(obj));
   }

@@ -54,6 +54,13 @@ struct ScanParams {
   double min_support_area_m2 = 0.04;
   // ... and lie at least this far above or below the earlier supports.
   double min_support_gap_m = 0.06;
+  // A later support holds min_plane_points, or its pixels cover at least this share of
+  // min_support_area_m2 on its plane (each pixel's footprint at its depth and view
+  // angle, (z / fx)^2 / cos): a shelf's board 2 m away seen at a grazing angle is a
+  // tenth of a square metre in 1,000 to 1,900 pixels, where min_plane_points is a count
+  // for a table a metre away. Half: the objects on a board hide part of it, and the
+  // hull (min_support_area_m2) still bounds the whole support. 0: the count alone.
+  double min_support_seen_share = 0.5;
   // Supports whose nearest point is farther from the camera are not used.
   double support_reach_m = 3.5;
   // Whose objects are reported: every support within reach (all), or only the
@@ -69,6 +76,11 @@ struct ScanParams {
   // not an object. One as wide as the support is the object whose top the support is
   // (a storage box, a stool) and is kept.
   double under_width_share = 0.5;
+  // ... when it stands on the lowest support (the floor): legs and chairs' bases stand
+  // there. What stands on a raised support under a higher one is that support's content
+  // (a shelf's lower board under its upper one, a desk under its hutch). false: the
+  // rule on every support (before session 9).
+  bool legs_on_lowest_only = true;
   // A body whose top holds objects is furniture (a cabinet, a shelf) when that top
   // stands at least this far above the body's own support: furniture rises to a
   // working height, while a box a can stands on is a prop of hand size (stacking).
@@ -167,6 +179,12 @@ struct ScanParams {
   // rows and columns that hold depth) or with fewer than min_whole_points pixels are
   // partial: reported, but they do not vote.
   int border_px = 4;
+  // ... and so are objects whose foot runs off the image's bottom edge unseen: their
+  // lowest pixels within border_px plus the rows of their support's band (an object's
+  // lowest min_height_m is in the band, no cluster pixel: 13 rows half a metre away), or
+  // with no depth below them down to that edge (a dark or too-near foot), in three
+  // columns or more (furniture_rules.h, foot_cut_by_bottom). false: border_px alone.
+  bool foot_at_border = true;
   int min_whole_points = 400;
   ShapeRecognizerParams shape;
   // Flat surfaces for virtual panels (ScanResult::surfaces). Off for scans that match no
