@@ -10,8 +10,6 @@
 namespace annex {
 namespace {
 
-bool has_depth(const PointXYZRGB& p) { return std::isfinite(p.z) && p.z > 0; }
-
 int find_root(std::vector<int>& parent, int a) {
   while (parent[a] != a) a = parent[a] = parent[parent[a]];
   return a;

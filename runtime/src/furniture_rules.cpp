@@ -11,10 +11,6 @@
 namespace annex {
 namespace {
 
-bool valid(const PointXYZRGB& p) {
-  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && p.z > 0;
-}
-
 Vec3 at(const Frame& f, int i) {
   const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
   return {p.x, p.y, p.z};
@@ -47,12 +43,12 @@ bool top_cut_by_band(const Frame& f, const std::vector<int>& grid, int step, Vec
     // at a grazing angle from above spaces its rows wider than the depth noise.
     const int b = i + row;
     double spacing = 0;
-    if (b < static_cast<int>(f.points.size()) && valid(f.points[static_cast<size_t>(b)]))
+    if (b < static_cast<int>(f.points.size()) && has_depth(f.points[static_cast<size_t>(b)]))
       spacing = norm(p - at(f, b));
     for (int r = 1; r <= 2; ++r) {
       const int j = i - r * row;
       if (j < 0) break;
-      if (!valid(f.points[static_cast<size_t>(j)])) continue;  // a dropout: look one row on
+      if (!has_depth(f.points[static_cast<size_t>(j)])) continue;  // a dropout: look one row on
       const Vec3 q = at(f, j);
       // Still in the band yet not the cluster's: the cluster ends here, the band does not.
       if (dot(n, q) + d <= params.max_height_m) break;
@@ -77,7 +73,7 @@ bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
       const int j = i - r * row;
       if (j < 0) break;
       const PointXYZRGB& q = f.points[static_cast<size_t>(j)];
-      if (!valid(q)) continue;
+      if (!has_depth(q)) continue;
       hidden += q.z < p.z - tolerance(p.z);
       break;
     }
@@ -118,7 +114,7 @@ bool foot_unseen(const Frame& f, const std::vector<int>& grid, int step,
     for (int r = 1; r <= 3; ++r) {
       const int j = i + r * row;
       if (j >= count) break;
-      if (!valid(f.points[static_cast<size_t>(j)])) continue;
+      if (!has_depth(f.points[static_cast<size_t>(j)])) continue;
       ++looked;
       unseen += surface_of[static_cast<size_t>(j)] != support;
       break;
@@ -155,7 +151,7 @@ bool foot_cut_by_bottom(const Frame& f, const std::vector<int>& pixels, int bott
     if (!off && y < bottom) {
       off = true;
       for (int r = y + 1; r <= bottom && off; ++r)
-        off = !valid(f.points[static_cast<size_t>(r * f.width + col)]);
+        off = !has_depth(f.points[static_cast<size_t>(r * f.width + col)]);
     }
     cut += off;
     if (cut >= 3) return true;

@@ -1324,7 +1324,7 @@ double independent_points(const Samples& s) {
   double n = 0;
   for (size_t i = 0; i < s.xyz.size(); ++i) {
     const double z = std::abs(s.xyz[i].z);
-    const double r = std::max({0.012, 3 * kinect_sigma_z(z), 6 * z / CameraIntrinsics{}.fx});
+    const double r = shared_noise_radius_m(z);
     size_t near = 0;
     for (size_t j = i % stride; j < s.xyz.size(); j += stride) {
       const Vec3 d = s.xyz[j] - s.xyz[i];

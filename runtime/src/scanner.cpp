@@ -45,10 +45,6 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-bool valid(const PointXYZRGB& p) {
-  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && p.z > 0;
-}
-
 Vec3 to_vec(const PointXYZRGB& p) { return {p.x, p.y, p.z}; }
 
 // Unorganized clouds are re-organized by projecting them with Kinect intrinsics
@@ -64,12 +60,12 @@ Frame organize(const Frame& in) {
   nan.x = nan.y = nan.z = std::numeric_limits<float>::quiet_NaN();
   out.points.assign(static_cast<size_t>(k.width) * k.height, nan);
   for (const PointXYZRGB& p : in.points) {
-    if (!valid(p)) continue;
+    if (!has_depth(p)) continue;
     const int u = static_cast<int>(std::lround(k.fx * p.x / p.z + k.cx));
     const int v = static_cast<int>(std::lround(k.fy * p.y / p.z + k.cy));
     if (u < 0 || v < 0 || u >= k.width || v >= k.height) continue;
     PointXYZRGB& q = out.points[static_cast<size_t>(v) * k.width + u];
-    if (!valid(q) || p.z < q.z) q = p;
+    if (!has_depth(q) || p.z < q.z) q = p;
   }
   return out;
 }
@@ -174,7 +170,7 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
       return y * f.width + x;
     };
     const int i1 = near(), i2 = near();
-    if (!valid(f.points[i1]) || !valid(f.points[i2])) continue;
+    if (!has_depth(f.points[i1]) || !has_depth(f.points[i2])) continue;
     // Later searches skip pixels whose grid pixel an earlier plane took.
     if (use_free) {
       const int s = std::max(1, params.pixel_stride);
@@ -692,7 +688,7 @@ bool continues_above(const Frame& f, const std::vector<int>& grid_pixels, int st
   auto point = [&](int x, int y) -> const PointXYZRGB* {
     if (x < 0 || y < 0 || x >= f.width || y >= f.height) return nullptr;
     const PointXYZRGB& q = f.points[static_cast<size_t>(y) * f.width + x];
-    return valid(q) ? &q : nullptr;
+    return has_depth(q) ? &q : nullptr;
   };
   for (int i : grid_pixels) {
     const int x = i % f.width, y = i / f.width;
@@ -741,7 +737,7 @@ std::vector<int> expand_cluster(const Frame& f, const std::vector<int>& grid_pix
         for (int dx = 0; dx < step && x + dx < f.width; ++dx) {
           const int j = (y + dy) * f.width + x + dx;
           const PointXYZRGB& q = f.points[j];
-          if (!valid(q)) continue;
+          if (!has_depth(q)) continue;
           const double h = dot(plane.n, to_vec(q)) + plane.d;
           if (h < std::max(params.min_height_m, plane_band(params, q.z)) || h > params.max_height_m)
             continue;
@@ -1038,7 +1034,7 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
   StridedPixels s;
   s.rows.assign(static_cast<size_t>(gh), 0);
   s.cols.assign(static_cast<size_t>(gw), 0);
-  auto kept = [&](const PointXYZRGB& p) { return valid(p) && p.z <= params.max_depth_m; };
+  auto kept = [&](const PointXYZRGB& p) { return has_depth(p) && p.z <= params.max_depth_m; };
   const size_t cells = static_cast<size_t>(gw) * static_cast<size_t>(gh);
   if (!scan_pool || scan_pool->threads() == 1) {
     // One thread: one pass, each kept pixel appended (the passes below read the frame
@@ -1400,7 +1396,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     // Valid points that all lie beyond the range are most often a cloud in millimetres.
     std::vector<float> far;
     for (size_t i = 0; i < f.points.size(); i += 97)
-      if (valid(f.points[i])) far.push_back(f.points[i].z);
+      if (has_depth(f.points[i])) far.push_back(f.points[i].z);
     if (far.size() < 10) return Error{"the frame has no valid depth points", where};
     std::nth_element(far.begin(), far.begin() + far.size() / 2, far.end());
     const double median = far[far.size() / 2];
@@ -1604,7 +1600,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
       for (int r = 1; r <= kEdgeRows; ++r) {
         const int j = i - r * stride * f.width;
         if (j < 0) break;
-        if (!valid(f.points[j])) continue;
+        if (!has_depth(f.points[j])) continue;
         if (r > 6 && (!edge || norm(to_vec(f.points[j]) - *edge) > params.support_edge_m)) break;
         int o = surface_of[static_cast<size_t>(j)];
         if (o < 0) {

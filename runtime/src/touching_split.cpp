@@ -12,8 +12,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-bool has_depth(const PointXYZRGB& p) { return std::isfinite(p.z) && p.z > 0; }
-
 // Parameters a resting primitive fits given its support (as the recognizer counts
 // them): the axis position, then its sizes (and a box's azimuth).
 int parameters_of(ShapeKind kind) {
@@ -67,12 +65,12 @@ FitTerms terms_of(const Frame& f, const ScanCluster& c) {
   return t;
 }
 
-// The independent noise samples among a cluster's pixels: the scanner smooths each
-// point over its neighbours within max(1.2 cm, 3 sigma_z, 6 pixels), so a pixel counts
-// its own area over that neighbourhood's (the recognizer's independent_points).
+// The independent noise samples among a cluster's pixels: a pixel counts its own area
+// over that of the neighbourhood it shares its noise with (shared_noise_radius_m; the
+// recognizer's independent_points).
 double independent(const FitTerms& t) {
   const double z = t.depth, pixel = z / CameraIntrinsics{}.fx;
-  const double r = std::max({0.012, 3 * kinect_sigma_z(z), 6 * pixel});
+  const double r = shared_noise_radius_m(z);
   return std::max(1.0, t.pixels * pixel * pixel / (kPi * r * r));
 }
 

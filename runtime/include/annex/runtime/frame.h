@@ -3,6 +3,7 @@
 // the camera frame (x right, y down, z forward, metres), invalid pixels NaN.
 // Our own type, so public headers never expose PCL.
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -21,6 +22,12 @@ struct Frame {
   std::vector<PointXYZRGB> points;
   bool organized() const { return height > 1; }
 };
+
+// Whether a pixel holds a returned depth (invalid pixels are NaN, or 0 from some
+// recorders).
+inline bool has_depth(const PointXYZRGB& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && p.z > 0;
+}
 
 // Pinhole intrinsics of the depth camera (Kinect defaults).
 struct CameraIntrinsics {

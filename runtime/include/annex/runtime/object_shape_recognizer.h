@@ -5,6 +5,7 @@
 // inlier count alone; a secondary primitive is added when a second shape explains a
 // large share of the points (a bottle's neck above its body). docs/perception.md.
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -12,6 +13,7 @@
 
 #include "annex/common/geometry.h"
 #include "annex/common/physical_scene.h"
+#include "annex/runtime/frame.h"
 
 namespace annex {
 
@@ -98,5 +100,12 @@ bool within_shape(const ShapeFit& fit, Vec3 p, double margin);
 
 // Kinect axial noise (Nguyen et al. 2012), metres at depth z metres.
 inline double kinect_sigma_z(double z) { return 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4); }
+
+// The radius the scanner's MLS smooths a point over at depth z with its defaults
+// (scanner.cpp smooth_cluster: 1.2 cm, 3 sigma_z, its window of 6 Kinect pixels):
+// points closer than this share their noise, so they are not independent samples.
+inline double shared_noise_radius_m(double z) {
+  return std::max({0.012, 3 * kinect_sigma_z(z), 6 * z / CameraIntrinsics{}.fx});
+}
 
 }  // namespace annex
