@@ -1011,6 +1011,86 @@ bool holds_support(const Frame& f, const std::vector<int>& members, const PlaneF
              params.min_support_seen_share * params.min_support_area_m2;
 }
 
+// Where a kept plane's noisy edge can lie: the cells, support_gap_reach_m square on the
+// plane, that hold its regions' pixels, and their neighbours. A band within
+// min_support_gap_m of a plane is that plane's own far edge, left outside its band by the
+// depth noise, only there: the noise moves a point along its ray, a few sigma from the
+// surface's seen pixels (3 sigma at 3.5 m is 6 cm). Farther away it is another surface
+// at nearly the same height (a shelf's board 3 cm below the table's top against the wall
+// behind it). Cells of pixels, not the regions' hulls: a table's region holds the strip
+// its band cuts across the wall behind it, and a hull spanning the two covers a cabinet
+// top beside the table (unseen rooms 7030). Empty with the rule off (never asked then).
+struct GapReach {
+  Vec3 u, v;
+  double cell = 1;
+  long a0 = 0, b0 = 0, na = 0, nb = 0;  // the cells' bounds, one cell beyond the pixels'
+  std::vector<char> near_cells;         // na x nb, 1 at a cell with a region's pixel or beside one
+  bool near(Vec3 p) const {
+    const long a = static_cast<long>(std::floor(dot(u, p) / cell)) - a0;
+    const long b = static_cast<long>(std::floor(dot(v, p) / cell)) - b0;
+    return a >= 0 && a < na && b >= 0 && b < nb && near_cells[static_cast<size_t>(a * nb + b)];
+  }
+};
+
+GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, const PlaneFit& plane,
+                   const ScanParams& params) {
+  GapReach r;
+  if (params.support_gap_reach_m <= 0) return r;
+  const Vec3 seed = std::abs(plane.n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  r.u = normalized(cross(plane.n, seed));
+  r.v = cross(plane.n, r.u);
+  // The pixels' coordinates on the plane, and the cells: at most some four million of
+  // them whatever the points' spread (a frame of bad depths spans kilometres), coarser
+  // cells then, which only widen the reach.
+  std::vector<std::array<double, 2>> uv;
+  double lo_u = std::numeric_limits<double>::infinity(), hi_u = -lo_u, lo_v = lo_u, hi_v = -lo_u;
+  for (const PlaneRegions& reg : regions)
+    for (int i : reg.members) {
+      const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
+      const double a = dot(r.u, p), b = dot(r.v, p);
+      uv.push_back({a, b});
+      lo_u = std::min(lo_u, a), hi_u = std::max(hi_u, a), lo_v = std::min(lo_v, b), hi_v = std::max(hi_v, b);
+    }
+  if (uv.empty() || !(hi_u >= lo_u) || !(hi_v >= lo_v)) return r;
+  r.cell = std::max(params.support_gap_reach_m, std::sqrt((hi_u - lo_u + 1) * (hi_v - lo_v + 1) / 4e6));
+  auto cell_of = [&](double x) { return static_cast<long>(std::floor(x / r.cell)); };
+  r.a0 = cell_of(lo_u) - 1, r.b0 = cell_of(lo_v) - 1;
+  r.na = cell_of(hi_u) + 2 - r.a0, r.nb = cell_of(hi_v) + 2 - r.b0;
+  std::vector<char> held(static_cast<size_t>(r.na * r.nb), 0);
+  for (const auto& [a, b] : uv) held[static_cast<size_t>((cell_of(a) - r.a0) * r.nb + (cell_of(b) - r.b0))] = 1;
+  // Each held cell and its eight neighbours are near.
+  r.near_cells.assign(held.size(), 0);
+  for (long a = 1; a + 1 < r.na; ++a)
+    for (long b = 1; b + 1 < r.nb; ++b)
+      if (held[static_cast<size_t>(a * r.nb + b)])
+        for (long da = -1; da <= 1; ++da)
+          for (long db = -1; db <= 1; ++db) r.near_cells[static_cast<size_t>((a + da) * r.nb + b + db)] = 1;
+  return r;
+}
+
+// Whether a first plane's inliers are a band cut obliquely across a surface steeper
+// than any support (a wall, a wardrobe's front): their least-squares plane faces further
+// than max_plane_angle_deg from up. RANSAC takes a triple's plane when it holds the most
+// inliers; a triple on a wall tilted toward up within the cone holds a strip of the wall
+// as wide as the band allows, which outnumbers a table seen at a grazing angle (unseen
+// 3038: a level camera 25 cm above the table, the wall 2.2 m away, its strips six
+// props). find_plane keeps such a hypothesis unrefined, as its refit leaves the cone;
+// the strip, fitted on its own, is the wall's plane (its width across the band exceeds
+// the depth noise, its spread along the wall's normal does not). A support's inliers fit
+// the support. Every third inlier within the fixed band, as find_plane's refit.
+bool slices_steep_surface(const Frame& f, const std::vector<int>& inliers, const PlaneFit& plane, Vec3 up,
+                          const ScanParams& params) {
+  std::vector<Vec3> pts;
+  pts.reserve(inliers.size() / 3 + 1);
+  for (size_t k = 0; k < inliers.size(); k += 3) {
+    const Vec3 p = to_vec(f.points[static_cast<size_t>(inliers[k])]);
+    if (std::abs(dot(plane.n, p) + plane.d) < params.plane_distance_m) pts.push_back(p);
+  }
+  const PlaneFit fit = fit_plane(pts);
+  if (!fit.ok) return false;
+  return std::abs(dot(fit.n, up)) < cos_degrees(params.max_plane_angle_deg);
+}
+
 }  // namespace
 
 namespace {
@@ -1149,9 +1229,17 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
   std::vector<double> first_h;
   // Up-facing points within min_support_gap_m of a kept plane can give no later support
   // (supports lie that far apart, below): they leave the candidates with its inliers.
-  auto clear_near = [&](const PlaneFit& kept) {
+  // Only within a kept plane's reach (gap_reach): a board 3 cm below the table's height
+  // against the wall behind it is another surface, not the table's noisy edge.
+  std::vector<GapReach> reach;  // per kept plane
+  auto near_kept = [&](size_t kept, Vec3 p) {
+    return params.support_gap_reach_m <= 0 || reach[kept].near(p);
+  };
+  auto clear_near = [&](size_t kept_index) {
+    const PlaneFit& kept = planes[kept_index].first;
     for (size_t k = 0; k < pool.size(); ++k)
-      if (pool_up[k] && std::abs(dot(kept.n, pool_pts[k]) + kept.d) < params.min_support_gap_m)
+      if (pool_up[k] && std::abs(dot(kept.n, pool_pts[k]) + kept.d) < params.min_support_gap_m &&
+          near_kept(kept_index, pool_pts[k]))
         pool_up[k] = 0;
   };
   while (static_cast<int>(planes.size()) < params.max_planes && pool.size() >= 50) {
@@ -1163,7 +1251,7 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
       pool_up = std::move(first_up);
       pool_h = std::move(first_h);
       up_ready = true;
-      clear_near(planes.front().first);
+      clear_near(0);
     }
     int peak = 0;
     double peak_height = 0;
@@ -1190,13 +1278,19 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
       // candidates, and the next band is tried.
       std::vector<Vec3> sample;
       for (size_t m = 0; m < at_peak.size(); m += 7) sample.push_back(pool_pts[at_peak[m]]);
+      // Within each earlier plane's reach only (gap_reach): there the points near it
+      // leave, and a band beyond it (a board against the wall) is tried again.
       bool echo = false;
-      for (const auto& [other, other_regions] : planes)
-        echo = echo || on_plane(other, sample, params.min_support_gap_m);
-      if (echo) {
-        for (size_t k : at_peak) pool_up[k] = 0;
-        continue;
+      for (size_t o = 0; o < planes.size() && !echo; ++o) {
+        std::vector<Vec3> near_sample;
+        for (const Vec3& q : sample)
+          if (near_kept(o, q)) near_sample.push_back(q);
+        echo = on_plane(planes[o].first, near_sample, params.min_support_gap_m);
+        if (echo)
+          for (size_t k : at_peak)
+            if (near_kept(o, pool_pts[k])) pool_up[k] = 0;
       }
+      if (echo) continue;
     }
     // One pass finds the inliers for the regions and for leaving the pool.
     inliers.clear();
@@ -1251,6 +1345,10 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
     if (first_plane ? static_cast<long long>(members.size()) * stride * stride < params.min_plane_points
                     : !holds_support(f, members, ps.plane, params))
       continue;
+    // The first plane is a surface facing up, not a band cut obliquely across a wall
+    // (slices_steep_surface); its inliers have left the pool, and the search goes on.
+    if (first_plane && params.first_plane_fits_up && slices_steep_surface(f, inliers, ps.plane, up, params))
+      continue;
     // Later supports share the first one's up once refined (single RANSAC triples on
     // a far, noisy floor scatter by more than that).
     if (!planes.empty() && dot(ps.plane.n, planes.front().first.n) < cos_tilt) continue;
@@ -1259,13 +1357,31 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
     if (!planes.empty() && ps.plane.d < params.min_support_gap_m) continue;
     // ... and lie clearly above or below every earlier one where they are seen: a
     // plane through the far floor's noise is not a second support.
-    std::vector<Vec3> sample;
-    for (const PlaneRegions& r : regions)
-      for (size_t m = 0; m < r.members.size(); m += 7) sample.push_back(to_vec(f.points[r.members[m]]));
-    bool apart = true;
-    for (const auto& [other, other_regions] : planes)
-      apart = apart && !on_plane(other, sample, params.min_support_gap_m);
-    if (!apart) continue;
+    if (params.support_gap_reach_m <= 0) {
+      std::vector<Vec3> sample;
+      for (const PlaneRegions& r : regions)
+        for (size_t m = 0; m < r.members.size(); m += 7) sample.push_back(to_vec(f.points[r.members[m]]));
+      bool apart = true;
+      for (const auto& [other, other_regions] : planes)
+        apart = apart && !on_plane(other, sample, params.min_support_gap_m);
+      if (!apart) continue;
+    } else {
+      // Region by region, within each earlier plane's reach (gap_reach): a board
+      // beyond the table's reach stays though the table's noisy edge at its height
+      // does not.
+      std::erase_if(regions, [&](const PlaneRegions& r) {
+        for (size_t o = 0; o < planes.size(); ++o) {
+          std::vector<Vec3> sample;
+          for (size_t m = 0; m < r.members.size(); m += 7) {
+            const Vec3 q = to_vec(f.points[r.members[m]]);
+            if (near_kept(o, q)) sample.push_back(q);
+          }
+          if (on_plane(planes[o].first, sample, params.min_support_gap_m)) return true;
+        }
+        return false;
+      });
+      if (regions.empty()) continue;
+    }
     // A later plane is a support only where it is seen from above (seen_from_above): a
     // height band across a wall behind the table holds up-facing points where the depth
     // noise tilts its normals, but no column of it runs away from the camera. Without
@@ -1280,7 +1396,8 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
       if (!holds_support(f, above, ps.plane, params)) continue;
     }
     planes.emplace_back(ps.plane, std::move(regions));
-    if (up_ready) clear_near(ps.plane);
+    reach.push_back(gap_reach(f, planes.back().second, ps.plane, params));
+    if (up_ready) clear_near(planes.size() - 1);
   }
   // The lowest plane is the floor (or the one support seen): one support of all its
   // regions, as a floor seen between furniture is one floor. Every other plane gives

@@ -42,6 +42,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
   const std::vector<Field> fields = {
       {"camera_tilt_deg", Kind::angle, &p.camera_tilt_deg},
       {"max_plane_angle_deg", Kind::angle, &p.max_plane_angle_deg},
+      {"first_plane_fits_up", Kind::flag, nullptr, nullptr, 0, &p.first_plane_fits_up},
       {"plane_distance_m", Kind::positive, &p.plane_distance_m},
       {"plane_noise_factor", Kind::non_negative, &p.plane_noise_factor},
       {"hull_margin_m", Kind::non_negative, &p.hull_margin_m},
@@ -71,6 +72,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"max_support_tilt_deg", Kind::angle, &p.max_support_tilt_deg},
       {"min_support_area_m2", Kind::non_negative, &p.min_support_area_m2},
       {"min_support_gap_m", Kind::non_negative, &p.min_support_gap_m},
+      {"support_gap_reach_m", Kind::non_negative, &p.support_gap_reach_m},
       {"min_support_seen_share", Kind::unit_share, &p.min_support_seen_share},
       {"under_width_share", Kind::unit_share, &p.under_width_share},
       {"legs_on_lowest_only", Kind::flag, nullptr, nullptr, 0, &p.legs_on_lowest_only},

@@ -34,6 +34,11 @@ struct ScanParams {
   double camera_tilt_deg = 30;
   // Planes whose normal is further than this from up are not supports.
   double max_plane_angle_deg = 45;
+  // The first plane's inliers, fitted by least squares, face within max_plane_angle_deg
+  // of up too: else they are a band cut obliquely across a wall (a triple on the wall
+  // tilted into the cone) and leave the search (a level camera seeing a wall behind a
+  // table at a grazing angle). false: the RANSAC triple's plane alone (before session 10).
+  bool first_plane_fits_up = true;
   // Plane inlier band: this width, or plane_noise_factor times the Kinect's axial
   // noise at the point's depth where that is wider (far floor). Points within the
   // band are never object points.
@@ -52,8 +57,15 @@ struct ScanParams {
   // not a support; a box top of 20 x 20 cm is).
   double max_support_tilt_deg = 8;
   double min_support_area_m2 = 0.04;
-  // ... and lie at least this far above or below the earlier supports.
+  // ... and lie at least this far above or below the earlier supports,
   double min_support_gap_m = 0.06;
+  // ... where they lie within this distance (in the plane) of an earlier support's
+  // regions: a band nearer than min_support_gap_m in height is that support's noisy
+  // edge only where the depth noise can put it, a few sigma along the view from the
+  // surface (3 sigma at 3.5 m: 6 cm); farther away it is another surface (a shelf's
+  // board 3 cm below the table's top, against the wall behind it). 0: everywhere (before
+  // session 10).
+  double support_gap_reach_m = 0.1;
   // A later support holds min_plane_points, or its pixels cover at least this share of
   // min_support_area_m2 on its plane (each pixel's footprint at its depth and view
   // angle, (z / fx)^2 / cos): a shelf's board 2 m away seen at a grazing angle is a
