@@ -60,8 +60,19 @@ size_t expect_same_scan(const Frame& frame, const std::string& what) {
   ScanParams one;
   one.threads = 1;
   const Result<ScanResult> base = scan_frame(frame, one);
-  EXPECT_TRUE(base.ok()) << what << ": " << base.error().format();
-  if (!base.ok()) return 0;
+  if (!base.ok()) {
+    // Only the carton model without a table (milk.pcd: its faces are no support, since
+    // session 10's first_plane_fits_up) fails, and alike on every thread count.
+    EXPECT_EQ(what, "milk.pcd") << base.error().format();
+    for (int threads : {2, 3}) {
+      ScanParams p = one;
+      p.threads = threads;
+      const Result<ScanResult> r = scan_frame(frame, p);
+      EXPECT_FALSE(r.ok()) << what << ", threads " << threads;
+      if (!r.ok()) EXPECT_EQ(r.error().format(), base.error().format()) << what;
+    }
+    return 0;
+  }
   for (int threads : {2, 3}) {
     ScanParams p = one;
     p.threads = threads;
