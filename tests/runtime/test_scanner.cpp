@@ -506,6 +506,84 @@ TEST(ScannerReal, NyuBasementHasTheFloorAndNoWardrobeSlices) {
   EXPECT_TRUE(bins);
 }
 
+// A solid resting on its support touches it and does not pass through it: no cylinder
+// lying or leaning in a real frame has the cross-section through its centre below its
+// support by more than twice the noise tolerance at its depth (its centre's height and
+// its radius are each fitted to within about one; nyu_basement's lower bin was a
+// cylinder r 0.32 m whose centre lay at the floor's height, 7 tolerances through it).
+TEST(ScannerReal, NoLyingCylinderPassesThroughItsSupport) {
+  for (const char* name : {"nyu_basement.pcd", "office1.pcd", "frame_20121214T142256.068683.pcd",
+                           "frame_20121214T142256.332395.pcd", "milk_cartoon_all_small_clorox.pcd"}) {
+    const auto f = real_frame(name);
+    if (!f) GTEST_SKIP() << "../shared/data/real is absent: real-scan test skipped";
+    const Result<ScanResult> scan = scan_frame(*f);
+    ASSERT_TRUE(scan.ok()) << scan.error().format();
+    for (const PhysicalObject& o : scan->scene.objects) {
+      if (o.primitives.empty() || o.primitives[0].kind != ShapeKind::cylinder) continue;
+      const PhysicalPrimitive& c = o.primitives[0];
+      const auto s = std::find_if(scan->scene.supports.begin(), scan->scene.supports.end(),
+                                  [&](const SupportSurface& x) { return x.id == o.support_id; });
+      ASSERT_NE(s, scan->scene.supports.end()) << name << " " << o.id;
+      const double nn = std::sqrt(dot(s->plane.normal, s->plane.normal));
+      const Vec3 axis = c.axis * (1.0 / std::sqrt(dot(c.axis, c.axis)));
+      const double up = std::abs(dot(axis, s->plane.normal)) / nn;
+      if (up > std::cos(3.14159265358979 / 4)) continue;  // upright: stands on its base
+      const double centre_h = (dot(s->plane.normal, c.center) + s->plane.d) / nn;
+      const double lowest = centre_h - c.dimensions_m[0] * std::sqrt(1 - up * up);
+      const double z = std::abs(c.center.z);
+      const double tol = std::max(0.004, 2.5 * (0.0012 + 0.0019 * (z - 0.4) * (z - 0.4)));
+      EXPECT_GT(lowest, -2 * tol) << name << " " << o.id << " r " << c.dimensions_m[0];
+    }
+  }
+}
+
+// nyu_basement's lower bin (left edge, about 3.2 m away, on the floor): a box, as its
+// README line asks. Its any-axis cylinder passed through the floor; the upright cylinder
+// inscribed in it (r 0.15 m) ranked first by the half credit its box corners got as a
+// rim's parts, though the box explains more of the points and closer.
+TEST(ScannerReal, NyuBasementLowerBinIsABox) {
+  const auto f = real_frame("nyu_basement.pcd");
+  if (!f) GTEST_SKIP() << "../shared/data/real is absent: real-scan test skipped";
+  const Result<ScanResult> scan = scan_frame(*f);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  bool bin = false;
+  for (size_t k = 0; k < scan->scene.objects.size(); ++k) {
+    const PhysicalObject& o = scan->scene.objects[k];
+    const Vec3 c = centroid(scan->clusters[k].points);
+    const double col = 582.6 * c.x / c.z + 313.0;
+    if (o.partial || col > 110 || c.z < 2.9 || c.z > 3.4 || o.point_count < 1000) continue;
+    bin = true;
+    ASSERT_FALSE(o.primitives.empty()) << o.id;
+    EXPECT_EQ(o.primitives[0].kind, ShapeKind::box) << o.id;
+  }
+  EXPECT_TRUE(bin);
+}
+
+// The laptop frames' lying objects cut by the image's top edge stay cylinders: their
+// fits' centres sit one radius above the floor (their axes, fixed by a partial view,
+// dip into it at one end).
+TEST(ScannerReal, LaptopFramesLyingCylindersAtTheTopEdgeStayCylinders) {
+  for (const char* name : {"frame_20121214T142256.068683.pcd", "frame_20121214T142256.332395.pcd"}) {
+    const auto f = real_frame(name);
+    if (!f) GTEST_SKIP() << "../shared/data/real is absent: real-scan test skipped";
+    const Result<ScanResult> scan = scan_frame(*f);
+    ASSERT_TRUE(scan.ok()) << scan.error().format();
+    int lying = 0;
+    for (size_t k = 0; k < scan->scene.objects.size(); ++k) {
+      const PhysicalObject& o = scan->scene.objects[k];
+      int top = f->height;
+      for (int i : scan->clusters[k].pixels) top = std::min(top, i / f->width);
+      const Vec3 c = centroid(scan->clusters[k].points);
+      const double col = 525.0 * c.x / c.z + 319.5;
+      if (top > 30 || col > 380 || o.point_count < 800) continue;
+      ASSERT_FALSE(o.primitives.empty()) << name << " " << o.id;
+      EXPECT_EQ(o.primitives[0].kind, ShapeKind::cylinder) << name << " " << o.id;
+      ++lying;
+    }
+    EXPECT_GE(lying, 1) << name;
+  }
+}
+
 TEST(ScannerReal, MilkCartoonBorderSliversArePartial) {
   const auto f = real_frame("milk_cartoon_all_small_clorox.pcd");
   if (!f) GTEST_SKIP() << "../shared/data/real is absent: real-scan test skipped";
