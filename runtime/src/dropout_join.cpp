@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <tuple>
 
 #include "annex/runtime/frame.h"
 
@@ -39,6 +40,76 @@ bool gap_is_dropout(const Frame& f, int a, int b, double tol) {
 }
 
 }  // namespace
+
+int silhouette_pixels(const Frame& f, const std::vector<int>& pixels, int max_gap_px) {
+  if (pixels.empty() || f.width <= 0) return 0;
+  int x0 = f.width, x1 = -1, y0 = f.height, y1 = -1;
+  for (int i : pixels) {
+    x0 = std::min(x0, i % f.width), x1 = std::max(x1, i % f.width);
+    y0 = std::min(y0, i / f.width), y1 = std::max(y1, i / f.width);
+  }
+  const int w = x1 - x0 + 1, h = y1 - y0 + 1;
+  // 1: one of `pixels`; bit 2: enclosed along its row; bit 4: along its column.
+  std::vector<unsigned char> at(static_cast<size_t>(w) * h, 0);
+  for (int i : pixels) at[static_cast<size_t>(i / f.width - y0) * w + (i % f.width - x0)] = 1;
+  const auto missing = [&](int x, int y) {
+    return !has_depth(f.points[static_cast<size_t>(y + y0) * f.width + x + x0]);
+  };
+  // Marks each run of missing pixels between two of `pixels` along a line of n cells,
+  // cell(k) giving the k-th cell's index in `at` and (x, y).
+  const auto enclose = [&](int n, auto cell, unsigned char bit) {
+    int last = -1;
+    for (int k = 0; k < n; ++k) {
+      const auto [idx, x, y] = cell(k);
+      if (at[idx] & 1) {
+        if (last >= 0 && k - last - 1 <= max_gap_px)
+          for (int m = last + 1; m < k; ++m) at[std::get<0>(cell(m))] |= bit;
+        last = k;
+      } else if (!missing(x, y)) {
+        last = -1;  // depth of something else: the run is not this object's dropout
+      }
+    }
+  };
+  for (int y = 0; y < h; ++y)
+    enclose(w, [&](int k) { return std::tuple<size_t, int, int>{static_cast<size_t>(y) * w + k, k, y}; }, 2);
+  for (int x = 0; x < w; ++x)
+    enclose(h, [&](int k) { return std::tuple<size_t, int, int>{static_cast<size_t>(k) * w + x, x, k}; }, 4);
+  int n = 0;
+  for (unsigned char c : at) n += (c & 1) || (c & 6) == 6;
+  return n;
+}
+
+std::vector<int> dropout_block_pixels(const Frame& f, const std::vector<int>& grid, int step,
+                                      const std::function<bool(int, int)>& accept) {
+  std::vector<int> out;
+  if (step <= 1 || f.width <= 0) return out;
+  // The blocks beside the grid whose grid pixel has no depth, each with the grid pixel
+  // beside it that is looked at first (the least index), once.
+  std::vector<std::pair<int, int>> blocks;
+  for (int i : grid) {
+    const int x = i % f.width, y = i / f.width;
+    for (int dy = -step; dy <= step; dy += step)
+      for (int dx = -step; dx <= step; dx += step) {
+        const int bx = x + dx, by = y + dy;
+        if ((dx == 0 && dy == 0) || bx < 0 || by < 0 || bx >= f.width || by >= f.height) continue;
+        const int b = by * f.width + bx;
+        if (!has_depth(f.points[static_cast<size_t>(b)])) blocks.emplace_back(b, i);
+      }
+  }
+  std::sort(blocks.begin(), blocks.end());
+  for (size_t k = 0; k < blocks.size(); ++k) {
+    if (k > 0 && blocks[k].first == blocks[k - 1].first) continue;
+    const auto [b, i] = blocks[k];
+    const int bx = b % f.width, by = b / f.width;
+    for (int ey = 0; ey < step && by + ey < f.height; ++ey)
+      for (int ex = 0; ex < step && bx + ex < f.width; ++ex) {
+        const int j = b + ey * f.width + ex;
+        if (has_depth(f.points[static_cast<size_t>(j)]) && accept(j, i)) out.push_back(j);
+      }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
 
 std::vector<std::vector<int>> join_dropout_fragments(
     const Frame& f, const std::vector<char>& mask, std::vector<std::vector<int>> grids, int step,

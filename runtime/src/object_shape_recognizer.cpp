@@ -1349,6 +1349,25 @@ int parameter_count(Model m) {
   return 6;
 }
 
+}  // namespace
+
+int fitted_parameter_count(const ShapeFit& fit, const Plane& support) {
+  switch (fit.primitive.kind) {
+    case ShapeKind::sphere: return parameter_count(Model::sphere);
+    case ShapeKind::cylinder:
+      // Upright: the axis is the support's normal (within a degree).
+      return parameter_count(std::abs(dot(fit.primitive.axis, support.normal)) > 0.9998 ? Model::cylinder
+                                                                                        : Model::lying_cylinder);
+    case ShapeKind::cone: return parameter_count(Model::cone);
+    case ShapeKind::torus: return parameter_count(Model::torus);
+    case ShapeKind::box:
+    case ShapeKind::plane: return parameter_count(Model::box);
+  }
+  return parameter_count(Model::box);
+}
+
+namespace {
+
 struct SelectionEntry {
   double evidence = 0;  // MSAC score (1 - mean (d / tol)^2), side-shape penalty included
   double coverage = 0, rms_m = 0;

@@ -716,6 +716,17 @@ bool continues_above(const Frame& f, const std::vector<int>& grid_pixels, int st
 
 // Full-resolution pixels of a cluster found on the strided grid: each grid pixel's
 // block, keeping pixels in the height band and near their grid pixel in 3D.
+// Whether pixel q (with depth) belongs with the cluster's grid pixel c in its block:
+// above the support's band, below the height band's top, within the clustering
+// tolerance (tol2 its square) of c.
+bool expands_to(const PointXYZRGB& c, const PointXYZRGB& q, double tol2, const PlaneFit& plane,
+                const ScanParams& params) {
+  const double h = dot(plane.n, to_vec(q)) + plane.d;
+  if (h < std::max(params.min_height_m, plane_band(params, q.z)) || h > params.max_height_m) return false;
+  const double dx = c.x - q.x, dy = c.y - q.y, dz = c.z - q.z;
+  return dx * dx + dy * dy + dz * dz <= tol2;
+}
+
 std::vector<int> expand_cluster(const Frame& f, const std::vector<int>& grid_pixels, int step,
                                 const PlaneFit& plane, const ScanParams& params) {
   // Pixels come out in raster order: grid pixels sorted, then each grid row's blocks
@@ -737,13 +748,7 @@ std::vector<int> expand_cluster(const Frame& f, const std::vector<int>& grid_pix
         for (int dx = 0; dx < step && x + dx < f.width; ++dx) {
           const int j = (y + dy) * f.width + x + dx;
           const PointXYZRGB& q = f.points[j];
-          if (!has_depth(q)) continue;
-          const double h = dot(plane.n, to_vec(q)) + plane.d;
-          if (h < std::max(params.min_height_m, plane_band(params, q.z)) || h > params.max_height_m)
-            continue;
-          const double ddx = c.x - q.x, ddy = c.y - q.y, ddz = c.z - q.z;
-          if (ddx * ddx + ddy * ddy + ddz * ddz > tol2) continue;
-          out.push_back(j);
+          if (has_depth(q) && expands_to(c, q, tol2, plane, params)) out.push_back(j);
         }
       }
     row = end;
@@ -1902,14 +1907,34 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     for (int i : grid) z_far = std::max(z_far, static_cast<double>(f.points[i].z));
     const PlaneFit& plane = found[static_cast<size_t>(a.support)].plane;
     for (const std::vector<int>& part :
-         split_cluster(f, grid, stride, cluster_tolerance(params, z_far), params.segment))
-      parts_of[g].push_back(expand_cluster(f, part, stride, plane, params));
+         split_cluster(f, grid, stride, cluster_tolerance(params, z_far), params.segment)) {
+      std::vector<int> full = expand_cluster(f, part, stride, plane, params);
+      // A part short of the size floor may be a dark surface whose grid pixels lost
+      // their depth: the returned pixels in their blocks are its too (dropout_join.h).
+      if (static_cast<int>(full.size()) < a.min_points) {
+        const std::vector<int> more = dropout_block_pixels(f, part, stride, [&](int j, int i) {
+          const PointXYZRGB& c = f.points[static_cast<size_t>(i)];
+          const double tol = cluster_tolerance(params, c.z);
+          return expands_to(c, f.points[static_cast<size_t>(j)], tol * tol, plane, params);
+        });
+        if (!more.empty()) {
+          const size_t n = full.size();
+          full.insert(full.end(), more.begin(), more.end());
+          std::inplace_merge(full.begin(), full.begin() + static_cast<std::ptrdiff_t>(n), full.end());
+        }
+      }
+      parts_of[g].push_back(std::move(full));
+    }
   }
   }, &grid_order);
   for (size_t g = 0; g < grids.size(); ++g)
     for (const Accepted& a : accepted_of[g])
       for (std::vector<int>& full : parts_of[g]) {
-        if (static_cast<int>(full.size()) < a.min_points ||
+        // The size floor is an image area: pixels without depth the part encloses (a
+        // dark surface's dropout) are its area too (dropout_join.h).
+        const bool small = static_cast<int>(full.size()) < a.min_points &&
+                           silhouette_pixels(f, full, params.dropout_max_gap_px) < a.min_points;
+        if (small ||
             static_cast<int>(full.size()) > params.max_cluster_points)
           continue;
         if (a.unseen)

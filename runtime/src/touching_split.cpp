@@ -12,20 +12,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Parameters a resting primitive fits given its support (as the recognizer counts
-// them): the axis position, then its sizes (and a box's azimuth).
-int parameters_of(ShapeKind kind) {
-  switch (kind) {
-    case ShapeKind::sphere: return 3;
-    case ShapeKind::cylinder: return 4;
-    case ShapeKind::cone: return 5;
-    case ShapeKind::torus: return 4;
-    case ShapeKind::box: return 6;
-    case ShapeKind::plane: return 5;
-  }
-  return 6;
-}
-
 // What the criterion needs of one fitted cluster.
 struct FitTerms {
   double pixels = 0;     // full-resolution pixels
@@ -60,7 +46,7 @@ FitTerms terms_of(const Frame& f, const ScanCluster& c) {
   if (const ShapeFit* fit = fit_of(c)) {
     t.coverage = fit->coverage;
     t.rms = fit->rms_m;
-    t.parameters = parameters_of(fit->primitive.kind);
+    t.parameters = fitted_parameter_count(*fit, c.support);
   }
   return t;
 }

@@ -108,7 +108,10 @@ TEST(FurnitureRules, AWardrobeCutByTheHeightBandIsNoProp) {
   const ScanParams with = alone();
   ScanParams without = alone();
   without.cut_top_share = 0;
-  expect_rule_takes(seeds, false, kLabelFurniture, with, without, 4);
+  // 3 of the 4 since session 10: without the rule, 5009's slice now comes apart into
+  // partial pieces (its small parts keep the returned pixels of blocks whose grid pixel
+  // has no depth, dropout_block_pixels, and are objects of their own).
+  expect_rule_takes(seeds, false, kLabelFurniture, with, without, 3);
 }
 
 TEST(FurnitureRules, AWallCutByTheHeightBandIsNoProp) {

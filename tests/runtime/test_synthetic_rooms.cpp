@@ -490,12 +490,16 @@ TEST(ScannerRooms, FlatConeWhoseCylinderStartFailsIsACone) {
 
 // Dark objects 1.5 to 2.5 m away keep a scatter of pixels facing the camera; the
 // clustering joins the fragments their missing depth parts (dropout_join.h). Session 8:
-// 50 of 66 found (46 without the join), 41 classed right.
+// 50 of 66 found (46 without the join), 41 classed right. Session 10: the returned
+// pixels in grid blocks whose own grid pixel has no depth are taken with the part
+// beside them, and the size floor counts the missing pixels a part encloses as its
+// area (dropout_block_pixels, silhouette_pixels): 58 found, 46 classed right (49 and
+// 40 on the code before).
 TEST(ScannerRooms, DarkObjectsInTheMiddleBandFoundFromThePointsThatAreThere) {
   const FeatureFigures r = scan_feature("dark", 6001, 6030, 2.5, 1.5);
   EXPECT_GE(r.objects, 60);
-  EXPECT_GE(r.found * 100, r.objects * 72);
-  EXPECT_GE(r.correct * 10, r.found * 8);
+  EXPECT_GE(r.found * 100, r.objects * 85);
+  EXPECT_GE(r.correct * 100, r.objects * 68);
 }
 
 // The join's widest gap is a scan parameter and config key (dropout_max_gap_px): checked

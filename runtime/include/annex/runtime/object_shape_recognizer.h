@@ -98,6 +98,12 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
 // (sphere, cylinder, cone and torus by their bounding cylinder about the axis).
 bool within_shape(const ShapeFit& fit, Vec3 p, double margin);
 
+// The parameters the recognizer's information criterion counts for a fitted shape
+// resting on `support` (object_shape_recognizer.cpp, parameter_count): a cylinder whose
+// axis is not the support's normal (lying, or tilted on its rim) counts as a lying
+// cylinder, 6; a plane, which the recognizer does not fit, as a box, 6.
+int fitted_parameter_count(const ShapeFit& fit, const Plane& support);
+
 // Kinect axial noise (Nguyen et al. 2012), metres at depth z metres.
 inline double kinect_sigma_z(double z) { return 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4); }
 
