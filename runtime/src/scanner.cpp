@@ -823,6 +823,18 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
   }
 }
 
+// smooth_cluster of a cluster's part with its own pixels as its only neighbours, on a
+// label of the calling thread's (all -1 between calls) rather than the scan's, which
+// stays as the clusters' fits running beside it read it.
+void smooth_part(const Frame& f, const std::vector<int>& pixels, const ScanParams& params,
+                 std::vector<Vec3>& points, std::vector<Vec3>& normals) {
+  thread_local std::vector<int> own;
+  if (own.size() != f.points.size()) own.assign(f.points.size(), -1);
+  for (int i : pixels) own[static_cast<size_t>(i)] = 0;
+  smooth_cluster(f, pixels, own, 0, params, points, normals);
+  for (int i : pixels) own[static_cast<size_t>(i)] = -1;
+}
+
 // Items in order of decreasing cost (ties in item order): handed out that way, a big
 // item is started first instead of last, where it would leave the other core idle.
 std::vector<size_t> largest_first(const std::vector<size_t>& cost) {
@@ -1825,32 +1837,43 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   std::vector<size_t> fit_sizes(clusters.size());
   for (size_t c = 0; c < clusters.size(); ++c) fit_sizes[c] = result.clusters[c].points.size();
   const std::vector<size_t> fit_order = largest_first(fit_sizes);
+  // Touching bodies one primitive explains poorly, in two (touching_split.h): each
+  // cluster tried right after its fit, in its own item, so that its refits run beside
+  // the other clusters' fits; the cuts kept are applied in cluster order below.
+  const auto seen_whole = [&](const ScanCluster& sc) {
+    // Not cut by the image's edge (border_px from it), not hidden in half.
+    const int b = std::max(0, params.border_px);
+    size_t covered = 0;
+    for (int i : sc.pixels) {
+      const int x = i % f.width, y = i / f.width;
+      if (x < b || y < b || x >= f.width - b || y >= f.height - b) return false;
+      covered += hidden[static_cast<size_t>(i)];
+    }
+    return 2 * covered <= sc.pixels.size();
+  };
+  const auto refit_part = [&](ScanCluster& sc, std::vector<Vec3>& n) {
+    smooth_part(f, sc.pixels, params, sc.points, n);
+    sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape);
+  };
+  const TouchingSplitParams touching{.max_whole_coverage = params.touching_max_coverage,
+                                     .min_part_points = params.min_whole_points};
+  std::vector<std::optional<TouchingCut>> cuts(clusters.size());
   parallel_for(clusters.size(), [&](size_t c) {
     ScanCluster& sc = result.clusters[c];
     sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
+    cuts[c] = touching_cut(f, sc, refit_part, seen_whole, params.shape, touching);
   }, &fit_order);
-  // Touching bodies one primitive explains poorly, in two (touching_split.h).
-  for (int from : split_touching_pairs(
-           f, result.clusters, normals, label,
-           [&](ScanCluster& sc, int id, std::vector<Vec3>& n) {
-             smooth_cluster(f, sc.pixels, label, id, params, sc.points, n);
-             sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape);
-           },
-           [&](const ScanCluster& sc) {
-             // Not cut by the image's edge (border_px from it), not hidden in half.
-             const int b = std::max(0, params.border_px);
-             size_t covered = 0;
-             for (int i : sc.pixels) {
-               const int x = i % f.width, y = i / f.width;
-               if (x < b || y < b || x >= f.width - b || y >= f.height - b) return false;
-               covered += hidden[static_cast<size_t>(i)];
-             }
-             return 2 * covered <= sc.pixels.size();
-           },
-           params.shape,
-           TouchingSplitParams{.max_whole_coverage = params.touching_max_coverage,
-                               .min_part_points = params.min_whole_points}))
-    clusters.push_back({result.clusters[clusters.size()].pixels, clusters[static_cast<size_t>(from)].support});
+  for (size_t c = 0, count = cuts.size(); c < count; ++c) {
+    if (!cuts[c]) continue;
+    TouchingCut& cut = *cuts[c];
+    const int id = static_cast<int>(result.clusters.size());
+    for (int i : cut.b.pixels) label[static_cast<size_t>(i)] = id;
+    result.clusters[c] = std::move(cut.a);
+    normals[c] = std::move(cut.normals_a);
+    clusters.push_back({cut.b.pixels, clusters[c].support});
+    result.clusters.push_back(std::move(cut.b));
+    normals.push_back(std::move(cut.normals_b));
+  }
   for (size_t c = 0; c < clusters.size(); ++c) clusters[c].pixels = result.clusters[c].pixels;
   restack(result, normals, params);
   if (params.stack_on_objects) {
