@@ -874,12 +874,12 @@ bool mostly_inside(const ShapeFit& solid, const std::vector<Vec3>& pts, double m
 
 // Two objects on a support cannot interpenetrate: a cluster lying mostly inside a
 // bigger object's fitted solid is a part of it that a depth edge cut off (a bottle's
-// handle behind its rim). Each such part joins the biggest object that contains it,
-// and the grown objects are smoothed and fitted again.
-void merge_parts(const Frame& f, const ScanParams& params, ScanResult& result,
-                 std::vector<int>& label, std::vector<std::vector<Vec3>>& normals) {
+// handle behind its rim). Each such part joins the biggest object that contains it
+// (its pixels, and `label`, the owner's) and is removed; returns the grown objects'
+// indices, biggest first, which the caller smooths and fits again.
+std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, std::vector<int>& label) {
   const size_t n = result.clusters.size();
-  if (n < 2 || params.part_margin_m <= 0) return;
+  if (n < 2 || params.part_margin_m <= 0) return {};
   std::vector<size_t> by_size(n);
   std::iota(by_size.begin(), by_size.end(), 0);
   std::stable_sort(by_size.begin(), by_size.end(), [&](size_t a, size_t b) {
@@ -913,20 +913,19 @@ void merge_parts(const Frame& f, const ScanParams& params, ScanResult& result,
     std::inplace_merge(big.pixels.begin(), middle, big.pixels.end());  // both sorted
     grown[owner[c]] = 1;
   }
-  std::vector<size_t> refit_sizes(n, 0);
-  for (size_t c = 0; c < n; ++c)
-    if (grown[c]) refit_sizes[c] = result.clusters[c].pixels.size();
-  const std::vector<size_t> refit_order = largest_first(refit_sizes);
-  parallel_for(n, [&](size_t c) {
-    if (!grown[c]) return;
-    ScanCluster& sc = result.clusters[c];
-    smooth_cluster(f, sc.pixels, label, static_cast<int>(c), params, sc.points, normals[c]);
-    sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
-  }, &refit_order);
+  // The objects kept, and the grown ones among them by their new index.
   std::vector<ScanCluster> kept;
+  std::vector<size_t> refit_sizes;
   for (size_t c = 0; c < n; ++c)
-    if (owner[c] < 0) kept.push_back(std::move(result.clusters[c]));
+    if (owner[c] < 0) {
+      refit_sizes.push_back(grown[c] ? result.clusters[c].pixels.size() : 0);
+      kept.push_back(std::move(result.clusters[c]));
+    }
   result.clusters = std::move(kept);
+  std::vector<size_t> refits;
+  for (size_t c : largest_first(refit_sizes))
+    if (refit_sizes[c] > 0) refits.push_back(c);
+  return refits;
 }
 
 // Objects standing on another object's top are fitted on that top (stacking.h).
@@ -1896,14 +1895,29 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
       stacked.emplace_back(sc.pixels.front(), result.clusters[sc.on_object].pixels.front());
     sc.on_object = -1;
   }
-  merge_parts(f, params, result, label, normals);
+  const std::vector<size_t> grown = merge_parts(params, result, label);
+  // The grown objects fitted again (each on its own pixels: refit_part) beside what
+  // joining occluded pieces reads (the label rebuilt, each object's piece): one pass of
+  // independent items, the refits first (the longest).
+  const size_t kept = result.clusters.size();
+  std::vector<OccludedPiece> pieces(params.join_occluded ? kept : 0);
+  parallel_for(grown.size() + (params.join_occluded ? 1 + kept : 0), [&](size_t k) {
+    if (k < grown.size()) {
+      std::vector<Vec3> n;
+      refit_part(result.clusters[grown[k]], n);
+    } else if (k == grown.size()) {
+      std::fill(label.begin(), label.end(), -1);
+      for (size_t c = 0; c < kept; ++c)
+        for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
+    } else {
+      const size_t c = k - grown.size() - 1;
+      pieces[c] = describe_piece(f, result.clusters[c]);
+    }
+  });
   if (params.join_occluded) {
     // Pieces of one object either side of a nearer one become one (occlusion_join.h).
-    std::fill(label.begin(), label.end(), -1);
-    for (size_t c = 0; c < result.clusters.size(); ++c)
-      for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
     join_occluded_pieces(
-        f, result.clusters, label,
+        f, result.clusters, label, std::move(pieces),
         [&](ScanCluster& sc, int id) {
           std::vector<Vec3> n;
           smooth_cluster(f, sc.pixels, label, id, params, sc.points, n);
