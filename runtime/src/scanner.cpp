@@ -1960,8 +1960,16 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   }
   const int border = std::max(0, params.border_px);
   const auto band_at = [&](double z) { return plane_band(params, z); };
-  for (const ScanCluster& sc : result.clusters) {
-    PhysicalObject obj;
+  // Each object's record reads its cluster alone: one item per object, the biggest
+  // first, kept in cluster order.
+  const size_t first_object = result.scene.objects.size();
+  result.scene.objects.resize(first_object + result.clusters.size());
+  std::vector<size_t> object_sizes(result.clusters.size());
+  for (size_t c = 0; c < result.clusters.size(); ++c) object_sizes[c] = result.clusters[c].pixels.size();
+  const std::vector<size_t> object_order = largest_first(object_sizes);
+  parallel_for(result.clusters.size(), [&](size_t c) {
+    const ScanCluster& sc = result.clusters[c];
+    PhysicalObject& obj = result.scene.objects[first_object + c];
     for (const ShapeFit& fit : sc.shape.primitives) obj.primitives.push_back(fit.primitive);
     obj.point_count = static_cast<int>(sc.pixels.size());
     obj.fit = sc.shape.fit;
@@ -1978,8 +1986,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     obj.partial = at_border >= 3 || foot_cut_by_bottom(f, sc.pixels, bottom, params, band_at) ||
                   obj.point_count < params.min_whole_points ||
                   2 * covered > sc.pixels.size() || sc.shape.depth_unseen;
-    result.scene.objects.push_back(std::move(obj));
-  }
+  }, &object_order);
   result.stages.push_back({"shapes", ms_since(t0)});
   order_and_name_objects(result);
   if (params.plane_candidates) result.surfaces = find_plane_candidates(f, result, params, params.planes);
