@@ -1586,7 +1586,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   std::vector<int> surface_of(f.points.size(), -1);
   for (size_t k = 0; k < ns; ++k)
     for (int i : found[k].regions.members) surface_of[static_cast<size_t>(i)] = static_cast<int>(k);
-  std::vector<char> hidden(f.points.size(), 0);
+  std::vector<char> hidden;  // sized with the label beside the grids' tests (below)
+  std::vector<int> label;
   // Index of a support above cluster `grid`'s own (k) whose surface, nearer to the
   // camera, lies just above the cluster's top in most of its image columns, or -1.
   // A support seen from above always appears above in the image what stands under it
@@ -1676,8 +1677,15 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   std::vector<std::vector<std::vector<int>>> parts_of(grids.size());
   std::vector<size_t> grid_sizes(grids.size());
   for (size_t g = 0; g < grids.size(); ++g) grid_sizes[g] = grids[g].size();
-  const std::vector<size_t> grid_order = largest_first(grid_sizes);
-  parallel_for(grids.size(), [&](size_t g) {
+  // One more item, last, sizes the per-pixel flags and labels the clusters get below.
+  std::vector<size_t> grid_order = largest_first(grid_sizes);
+  grid_order.push_back(grids.size());
+  parallel_for(grids.size() + 1, [&](size_t g) {
+  if (g == grids.size()) {
+    hidden.assign(f.points.size(), 0);
+    label.assign(f.points.size(), -1);
+    return;
+  }
   std::vector<Accepted>& accepted = accepted_of[g];
   for (const std::vector<int>& grid : std::span(&grids[g], 1)) {
     const int k = mask[grid.front()] - 1;
@@ -1810,7 +1818,6 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
           for (int i : full) hidden[static_cast<size_t>(i)] = 1;
         clusters.push_back({std::move(full), a.support});
       }
-  std::vector<int> label(f.points.size(), -1);
   for (size_t c = 0; c < clusters.size(); ++c)
     for (int i : clusters[c].pixels) label[i] = static_cast<int>(c);
   result.stages.push_back({"clusters", ms_since(t0)});
@@ -1926,9 +1933,13 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
         params.shape.min_coverage);
   }
   if (!stacked.empty()) {
-    std::fill(label.begin(), label.end(), -1);
-    for (size_t c = 0; c < result.clusters.size(); ++c)
-      for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
+    // The label rebuilt above still holds when no pieces joined (a join removes one;
+    // a rejected one gives its pixels back).
+    if (!params.join_occluded || result.clusters.size() != kept) {
+      std::fill(label.begin(), label.end(), -1);
+      for (size_t c = 0; c < result.clusters.size(); ++c)
+        for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
+    }
     for (const auto& [upper, lower] : stacked) {
       const int u = label[upper], l = label[lower];
       if (u < 0 || l < 0 || u == l) continue;
