@@ -5,14 +5,9 @@
 #include <cmath>
 
 namespace annex {
-namespace {
 
-struct Piece {
-  double u = 0, v = 0, z = 0;  // mean image position, median depth
-};
-
-Piece describe(const Frame& f, const ScanCluster& c) {
-  Piece p;
+OccludedPiece describe_piece(const Frame& f, const ScanCluster& c) {
+  OccludedPiece p;
   std::vector<float> z;
   z.reserve(c.pixels.size());
   // A pixel's row by one division only when it leaves the last one's row (the pixels
@@ -32,16 +27,12 @@ Piece describe(const Frame& f, const ScanCluster& c) {
   return p;
 }
 
-}  // namespace
-
 void join_occluded_pieces(const Frame& f, std::vector<ScanCluster>& clusters,
-                          std::vector<int>& label,
+                          std::vector<int>& label, std::vector<OccludedPiece> pieces,
                           const std::function<void(ScanCluster&, int)>& refit,
                           double min_coverage, const OcclusionJoinParams& params) {
   const size_t n = clusters.size();
   if (n < 3 || !f.organized()) return;
-  std::vector<Piece> pieces(n);
-  for (size_t k = 0; k < n; ++k) pieces[k] = describe(f, clusters[k]);
   std::vector<char> gone(n, 0);
   for (size_t a = 0; a < n; ++a) {
     for (size_t b = a + 1; b < n; ++b) {
@@ -100,7 +91,7 @@ void join_occluded_pieces(const Frame& f, std::vector<ScanCluster>& clusters,
                         joint.shape.primitives[0].primitive.kind == A.shape.primitives[0].primitive.kind;
       if (same && joint.shape.fit >= min_coverage && joint.shape.fit >= worse - params.coverage_slack) {
         clusters[a] = std::move(joint);
-        pieces[a] = describe(f, clusters[a]);
+        pieces[a] = describe_piece(f, clusters[a]);
         gone[b] = 1;
       } else {
         for (int i : B.pixels) label[i] = static_cast<int>(b);

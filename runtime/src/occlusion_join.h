@@ -25,11 +25,19 @@ struct OcclusionJoinParams {
   double max_unclaimed_share = 0.1;
 };
 
+// Where a cluster lies in the image and how far: its pixels' mean image position and
+// median depth. Reads only the cluster's pixels (the scanner finds them beside other
+// work).
+struct OccludedPiece {
+  double u = 0, v = 0, z = 0;
+};
+OccludedPiece describe_piece(const Frame& frame, const ScanCluster& cluster);
+
 // clusters: the scan's objects; label: cluster index per pixel (-1 none), kept up to
-// date; refit(cluster, id) smooths and fits a grown cluster again. Joined pieces are
-// removed from `clusters`.
+// date; pieces: describe_piece of each cluster; refit(cluster, id) smooths and fits a
+// grown cluster again. Joined pieces are removed from `clusters`.
 void join_occluded_pieces(const Frame& frame, std::vector<ScanCluster>& clusters,
-                          std::vector<int>& label,
+                          std::vector<int>& label, std::vector<OccludedPiece> pieces,
                           const std::function<void(ScanCluster&, int)>& refit,
                           double min_coverage, const OcclusionJoinParams& params = {});
 

@@ -828,6 +828,18 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
   }
 }
 
+// smooth_cluster of a cluster's part with its own pixels as its only neighbours, on a
+// label of the calling thread's (all -1 between calls) rather than the scan's, which
+// stays as the clusters' fits running beside it read it.
+void smooth_part(const Frame& f, const std::vector<int>& pixels, const ScanParams& params,
+                 std::vector<Vec3>& points, std::vector<Vec3>& normals) {
+  thread_local std::vector<int> own;
+  if (own.size() != f.points.size()) own.assign(f.points.size(), -1);
+  for (int i : pixels) own[static_cast<size_t>(i)] = 0;
+  smooth_cluster(f, pixels, own, 0, params, points, normals);
+  for (int i : pixels) own[static_cast<size_t>(i)] = -1;
+}
+
 // Items in order of decreasing cost (ties in item order): handed out that way, a big
 // item is started first instead of last, where it would leave the other core idle.
 std::vector<size_t> largest_first(const std::vector<size_t>& cost) {
@@ -867,12 +879,12 @@ bool mostly_inside(const ShapeFit& solid, const std::vector<Vec3>& pts, double m
 
 // Two objects on a support cannot interpenetrate: a cluster lying mostly inside a
 // bigger object's fitted solid is a part of it that a depth edge cut off (a bottle's
-// handle behind its rim). Each such part joins the biggest object that contains it,
-// and the grown objects are smoothed and fitted again.
-void merge_parts(const Frame& f, const ScanParams& params, ScanResult& result,
-                 std::vector<int>& label, std::vector<std::vector<Vec3>>& normals) {
+// handle behind its rim). Each such part joins the biggest object that contains it
+// (its pixels, and `label`, the owner's) and is removed; returns the grown objects'
+// indices, biggest first, which the caller smooths and fits again.
+std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, std::vector<int>& label) {
   const size_t n = result.clusters.size();
-  if (n < 2 || params.part_margin_m <= 0) return;
+  if (n < 2 || params.part_margin_m <= 0) return {};
   std::vector<size_t> by_size(n);
   std::iota(by_size.begin(), by_size.end(), 0);
   std::stable_sort(by_size.begin(), by_size.end(), [&](size_t a, size_t b) {
@@ -906,20 +918,19 @@ void merge_parts(const Frame& f, const ScanParams& params, ScanResult& result,
     std::inplace_merge(big.pixels.begin(), middle, big.pixels.end());  // both sorted
     grown[owner[c]] = 1;
   }
-  std::vector<size_t> refit_sizes(n, 0);
-  for (size_t c = 0; c < n; ++c)
-    if (grown[c]) refit_sizes[c] = result.clusters[c].pixels.size();
-  const std::vector<size_t> refit_order = largest_first(refit_sizes);
-  parallel_for(n, [&](size_t c) {
-    if (!grown[c]) return;
-    ScanCluster& sc = result.clusters[c];
-    smooth_cluster(f, sc.pixels, label, static_cast<int>(c), params, sc.points, normals[c]);
-    sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
-  }, &refit_order);
+  // The objects kept, and the grown ones among them by their new index.
   std::vector<ScanCluster> kept;
+  std::vector<size_t> refit_sizes;
   for (size_t c = 0; c < n; ++c)
-    if (owner[c] < 0) kept.push_back(std::move(result.clusters[c]));
+    if (owner[c] < 0) {
+      refit_sizes.push_back(grown[c] ? result.clusters[c].pixels.size() : 0);
+      kept.push_back(std::move(result.clusters[c]));
+    }
   result.clusters = std::move(kept);
+  std::vector<size_t> refits;
+  for (size_t c : largest_first(refit_sizes))
+    if (refit_sizes[c] > 0) refits.push_back(c);
+  return refits;
 }
 
 // Objects standing on another object's top are fitted on that top (stacking.h).
@@ -1697,7 +1708,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   std::vector<int> surface_of(f.points.size(), -1);
   for (size_t k = 0; k < ns; ++k)
     for (int i : found[k].regions.members) surface_of[static_cast<size_t>(i)] = static_cast<int>(k);
-  std::vector<char> hidden(f.points.size(), 0);
+  std::vector<char> hidden;  // sized with the label beside the grids' tests (below)
+  std::vector<int> label;
   // Index of a support above cluster `grid`'s own (k) whose surface, nearer to the
   // camera, lies just above the cluster's top in most of its image columns, or -1.
   // A support seen from above always appears above in the image what stands under it
@@ -1787,8 +1799,15 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   std::vector<std::vector<std::vector<int>>> parts_of(grids.size());
   std::vector<size_t> grid_sizes(grids.size());
   for (size_t g = 0; g < grids.size(); ++g) grid_sizes[g] = grids[g].size();
-  const std::vector<size_t> grid_order = largest_first(grid_sizes);
-  parallel_for(grids.size(), [&](size_t g) {
+  // One more item, last, sizes the per-pixel flags and labels the clusters get below.
+  std::vector<size_t> grid_order = largest_first(grid_sizes);
+  grid_order.push_back(grids.size());
+  parallel_for(grids.size() + 1, [&](size_t g) {
+  if (g == grids.size()) {
+    hidden.assign(f.points.size(), 0);
+    label.assign(f.points.size(), -1);
+    return;
+  }
   std::vector<Accepted>& accepted = accepted_of[g];
   for (const std::vector<int>& grid : std::span(&grids[g], 1)) {
     const int k = mask[grid.front()] - 1;
@@ -1941,7 +1960,6 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
           for (int i : full) hidden[static_cast<size_t>(i)] = 1;
         clusters.push_back({std::move(full), a.support});
       }
-  std::vector<int> label(f.points.size(), -1);
   for (size_t c = 0; c < clusters.size(); ++c)
     for (int i : clusters[c].pixels) label[i] = static_cast<int>(c);
   result.stages.push_back({"clusters", ms_since(t0)});
@@ -1967,32 +1985,43 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   std::vector<size_t> fit_sizes(clusters.size());
   for (size_t c = 0; c < clusters.size(); ++c) fit_sizes[c] = result.clusters[c].points.size();
   const std::vector<size_t> fit_order = largest_first(fit_sizes);
+  // Touching bodies one primitive explains poorly, in two (touching_split.h): each
+  // cluster tried right after its fit, in its own item, so that its refits run beside
+  // the other clusters' fits; the cuts kept are applied in cluster order below.
+  const auto seen_whole = [&](const ScanCluster& sc) {
+    // Not cut by the image's edge (border_px from it), not hidden in half.
+    const int b = std::max(0, params.border_px);
+    size_t covered = 0;
+    for (int i : sc.pixels) {
+      const int x = i % f.width, y = i / f.width;
+      if (x < b || y < b || x >= f.width - b || y >= f.height - b) return false;
+      covered += hidden[static_cast<size_t>(i)];
+    }
+    return 2 * covered <= sc.pixels.size();
+  };
+  const auto refit_part = [&](ScanCluster& sc, std::vector<Vec3>& n) {
+    smooth_part(f, sc.pixels, params, sc.points, n);
+    sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape);
+  };
+  const TouchingSplitParams touching{.max_whole_coverage = params.touching_max_coverage,
+                                     .min_part_points = params.min_whole_points};
+  std::vector<std::optional<TouchingCut>> cuts(clusters.size());
   parallel_for(clusters.size(), [&](size_t c) {
     ScanCluster& sc = result.clusters[c];
     sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
+    cuts[c] = touching_cut(f, sc, refit_part, seen_whole, params.shape, touching);
   }, &fit_order);
-  // Touching bodies one primitive explains poorly, in two (touching_split.h).
-  for (int from : split_touching_pairs(
-           f, result.clusters, normals, label,
-           [&](ScanCluster& sc, int id, std::vector<Vec3>& n) {
-             smooth_cluster(f, sc.pixels, label, id, params, sc.points, n);
-             sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape);
-           },
-           [&](const ScanCluster& sc) {
-             // Not cut by the image's edge (border_px from it), not hidden in half.
-             const int b = std::max(0, params.border_px);
-             size_t covered = 0;
-             for (int i : sc.pixels) {
-               const int x = i % f.width, y = i / f.width;
-               if (x < b || y < b || x >= f.width - b || y >= f.height - b) return false;
-               covered += hidden[static_cast<size_t>(i)];
-             }
-             return 2 * covered <= sc.pixels.size();
-           },
-           params.shape,
-           TouchingSplitParams{.max_whole_coverage = params.touching_max_coverage,
-                               .min_part_points = params.min_whole_points}))
-    clusters.push_back({result.clusters[clusters.size()].pixels, clusters[static_cast<size_t>(from)].support});
+  for (size_t c = 0, count = cuts.size(); c < count; ++c) {
+    if (!cuts[c]) continue;
+    TouchingCut& cut = *cuts[c];
+    const int id = static_cast<int>(result.clusters.size());
+    for (int i : cut.b.pixels) label[static_cast<size_t>(i)] = id;
+    result.clusters[c] = std::move(cut.a);
+    normals[c] = std::move(cut.normals_a);
+    clusters.push_back({cut.b.pixels, clusters[c].support});
+    result.clusters.push_back(std::move(cut.b));
+    normals.push_back(std::move(cut.normals_b));
+  }
   for (size_t c = 0; c < clusters.size(); ++c) clusters[c].pixels = result.clusters[c].pixels;
   restack(result, normals, params);
   if (params.stack_on_objects) {
@@ -2015,14 +2044,29 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
       stacked.emplace_back(sc.pixels.front(), result.clusters[sc.on_object].pixels.front());
     sc.on_object = -1;
   }
-  merge_parts(f, params, result, label, normals);
+  const std::vector<size_t> grown = merge_parts(params, result, label);
+  // The grown objects fitted again (each on its own pixels: refit_part) beside what
+  // joining occluded pieces reads (the label rebuilt, each object's piece): one pass of
+  // independent items, the refits first (the longest).
+  const size_t kept = result.clusters.size();
+  std::vector<OccludedPiece> pieces(params.join_occluded ? kept : 0);
+  parallel_for(grown.size() + (params.join_occluded ? 1 + kept : 0), [&](size_t k) {
+    if (k < grown.size()) {
+      std::vector<Vec3> n;
+      refit_part(result.clusters[grown[k]], n);
+    } else if (k == grown.size()) {
+      std::fill(label.begin(), label.end(), -1);
+      for (size_t c = 0; c < kept; ++c)
+        for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
+    } else {
+      const size_t c = k - grown.size() - 1;
+      pieces[c] = describe_piece(f, result.clusters[c]);
+    }
+  });
   if (params.join_occluded) {
     // Pieces of one object either side of a nearer one become one (occlusion_join.h).
-    std::fill(label.begin(), label.end(), -1);
-    for (size_t c = 0; c < result.clusters.size(); ++c)
-      for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
     join_occluded_pieces(
-        f, result.clusters, label,
+        f, result.clusters, label, std::move(pieces),
         [&](ScanCluster& sc, int id) {
           std::vector<Vec3> n;
           smooth_cluster(f, sc.pixels, label, id, params, sc.points, n);
@@ -2031,9 +2075,13 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
         params.shape.min_coverage);
   }
   if (!stacked.empty()) {
-    std::fill(label.begin(), label.end(), -1);
-    for (size_t c = 0; c < result.clusters.size(); ++c)
-      for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
+    // The label rebuilt above still holds when no pieces joined (a join removes one;
+    // a rejected one gives its pixels back).
+    if (!params.join_occluded || result.clusters.size() != kept) {
+      std::fill(label.begin(), label.end(), -1);
+      for (size_t c = 0; c < result.clusters.size(); ++c)
+        for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
+    }
     for (const auto& [upper, lower] : stacked) {
       const int u = label[upper], l = label[lower];
       if (u < 0 || l < 0 || u == l) continue;
@@ -2065,8 +2113,16 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   }
   const int border = std::max(0, params.border_px);
   const auto band_at = [&](double z) { return plane_band(params, z); };
-  for (const ScanCluster& sc : result.clusters) {
-    PhysicalObject obj;
+  // Each object's record reads its cluster alone: one item per object, the biggest
+  // first, kept in cluster order.
+  const size_t first_object = result.scene.objects.size();
+  result.scene.objects.resize(first_object + result.clusters.size());
+  std::vector<size_t> object_sizes(result.clusters.size());
+  for (size_t c = 0; c < result.clusters.size(); ++c) object_sizes[c] = result.clusters[c].pixels.size();
+  const std::vector<size_t> object_order = largest_first(object_sizes);
+  parallel_for(result.clusters.size(), [&](size_t c) {
+    const ScanCluster& sc = result.clusters[c];
+    PhysicalObject& obj = result.scene.objects[first_object + c];
     for (const ShapeFit& fit : sc.shape.primitives) obj.primitives.push_back(fit.primitive);
     obj.point_count = static_cast<int>(sc.pixels.size());
     obj.fit = sc.shape.fit;
@@ -2083,8 +2139,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     obj.partial = at_border >= 3 || foot_cut_by_bottom(f, sc.pixels, bottom, params, band_at) ||
                   obj.point_count < params.min_whole_points ||
                   2 * covered > sc.pixels.size() || sc.shape.depth_unseen;
-    result.scene.objects.push_back(std::move(obj));
-  }
+  }, &object_order);
   result.stages.push_back({"shapes", ms_since(t0)});
   order_and_name_objects(result);
   if (params.plane_candidates) result.surfaces = find_plane_candidates(f, result, params, params.planes);

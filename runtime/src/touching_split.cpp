@@ -206,72 +206,49 @@ bool both_recognised(const FitTerms& a, const FitTerms& b, double least) {
 
 }  // namespace
 
-std::vector<int> split_touching_pairs(
-    const Frame& f, std::vector<ScanCluster>& clusters, std::vector<std::vector<Vec3>>& normals,
-    std::vector<int>& label, const std::function<void(ScanCluster&, int, std::vector<Vec3>&)>& refit,
+std::optional<TouchingCut> touching_cut(
+    const Frame& f, const ScanCluster& cluster,
+    const std::function<void(ScanCluster&, std::vector<Vec3>&)>& refit,
     const std::function<bool(const ScanCluster&)>& seen_whole, const ShapeRecognizerParams& shape,
     const TouchingSplitParams& params) {
-  std::vector<int> origin;
-  const size_t count = clusters.size();
-  for (size_t c = 0; c < count; ++c) {
-    const FitTerms whole = terms_of(f, clusters[c]);
-    if (whole.coverage >= params.max_whole_coverage || !seen_whole(clusters[c])) continue;
-    const std::vector<char> side = two_means(f, clusters[c], params.min_part_share, params.min_part_points);
-    if (side.empty() || !misfit_on_one_side(f, clusters[c], side, shape)) continue;
-    const int id = static_cast<int>(clusters.size());
-    ScanCluster a, b;
-    a.support = b.support = clusters[c].support;
-    for (size_t k = 0; k < side.size(); ++k) (side[k] ? b : a).pixels.push_back(clusters[c].pixels[k]);
-    for (int i : b.pixels) label[static_cast<size_t>(i)] = id;
-    std::vector<Vec3> na, nb;
-    refit(a, static_cast<int>(c), na);
-    refit(b, id, nb);
-    FitTerms ta = terms_of(f, a), tb = terms_of(f, b);
-    bool keep = both_recognised(ta, tb, params.max_whole_coverage);
-    if (keep) {
-      Criterion k = criterion(whole, ta, tb, shape);
-      // The means' cut is straight; where the two bodies meet each pixel lies on one of
-      // the two fitted surfaces: once more with each pixel given to the nearer.
-      ScanCluster a2, b2;
-      a2.support = b2.support = a.support;
-      for (int i : clusters[c].pixels) {
-        const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
-        const Vec3 v{p.x, p.y, p.z};
-        (surface_distance(b.shape.primitives.front(), v) < surface_distance(a.shape.primitives.front(), v) ? b2 : a2)
-            .pixels.push_back(i);
-      }
-      const double least = std::max(params.min_part_share * static_cast<double>(clusters[c].pixels.size()),
-                                    static_cast<double>(params.min_part_points));
-      if (static_cast<double>(std::min(a2.pixels.size(), b2.pixels.size())) >= least &&
-          (a2.pixels != a.pixels)) {
-        for (int i : a2.pixels) label[static_cast<size_t>(i)] = static_cast<int>(c);
-        for (int i : b2.pixels) label[static_cast<size_t>(i)] = id;
-        std::vector<Vec3> na2, nb2;
-        refit(a2, static_cast<int>(c), na2);
-        refit(b2, id, nb2);
-        const FitTerms ta2 = terms_of(f, a2), tb2 = terms_of(f, b2);
-        const Criterion k2 = criterion(whole, ta2, tb2, shape);
-        if (both_recognised(ta2, tb2, params.max_whole_coverage) && k2.two < k.two) {
-          a = std::move(a2), b = std::move(b2), na = std::move(na2), nb = std::move(nb2);
-          k = k2;
-        } else {
-          for (int i : a.pixels) label[static_cast<size_t>(i)] = static_cast<int>(c);
-          for (int i : b.pixels) label[static_cast<size_t>(i)] = id;
-        }
-      }
-      keep = k.two < k.one;
-    }
-    if (!keep) {
-      for (int i : b.pixels) label[static_cast<size_t>(i)] = static_cast<int>(c);
-      continue;
-    }
-    clusters[c] = std::move(a);
-    normals[c] = std::move(na);
-    clusters.push_back(std::move(b));
-    normals.push_back(std::move(nb));
-    origin.push_back(static_cast<int>(c));
+  const FitTerms whole = terms_of(f, cluster);
+  if (whole.coverage >= params.max_whole_coverage || !seen_whole(cluster)) return std::nullopt;
+  const std::vector<char> side = two_means(f, cluster, params.min_part_share, params.min_part_points);
+  if (side.empty() || !misfit_on_one_side(f, cluster, side, shape)) return std::nullopt;
+  ScanCluster a, b;
+  a.support = b.support = cluster.support;
+  for (size_t k = 0; k < side.size(); ++k) (side[k] ? b : a).pixels.push_back(cluster.pixels[k]);
+  std::vector<Vec3> na, nb;
+  refit(a, na);
+  refit(b, nb);
+  FitTerms ta = terms_of(f, a), tb = terms_of(f, b);
+  if (!both_recognised(ta, tb, params.max_whole_coverage)) return std::nullopt;
+  Criterion k = criterion(whole, ta, tb, shape);
+  // The means' cut is straight; where the two bodies meet each pixel lies on one of
+  // the two fitted surfaces: once more with each pixel given to the nearer.
+  ScanCluster a2, b2;
+  a2.support = b2.support = a.support;
+  for (int i : cluster.pixels) {
+    const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
+    const Vec3 v{p.x, p.y, p.z};
+    (surface_distance(b.shape.primitives.front(), v) < surface_distance(a.shape.primitives.front(), v) ? b2 : a2)
+        .pixels.push_back(i);
   }
-  return origin;
+  const double least = std::max(params.min_part_share * static_cast<double>(cluster.pixels.size()),
+                                static_cast<double>(params.min_part_points));
+  if (static_cast<double>(std::min(a2.pixels.size(), b2.pixels.size())) >= least && (a2.pixels != a.pixels)) {
+    std::vector<Vec3> na2, nb2;
+    refit(a2, na2);
+    refit(b2, nb2);
+    const FitTerms ta2 = terms_of(f, a2), tb2 = terms_of(f, b2);
+    const Criterion k2 = criterion(whole, ta2, tb2, shape);
+    if (both_recognised(ta2, tb2, params.max_whole_coverage) && k2.two < k.two) {
+      a = std::move(a2), b = std::move(b2), na = std::move(na2), nb = std::move(nb2);
+      k = k2;
+    }
+  }
+  if (!(k.two < k.one)) return std::nullopt;
+  return TouchingCut{std::move(a), std::move(b), std::move(na), std::move(nb)};
 }
 
 }  // namespace annex

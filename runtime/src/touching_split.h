@@ -12,6 +12,7 @@
 // part's shape and the cut's two) over the independent points. Private to the scanner.
 
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "annex/runtime/frame.h"
@@ -32,14 +33,20 @@ struct TouchingSplitParams {
   int min_part_points = 400;
 };
 
-// refit(cluster, id, normals): smooths cluster (its pixels labelled `id` in `label`)
-// and fits its shape, filling its normals. Only clusters seen_whole() are tried: one
-// cut by the image border or hidden in part fits poorly for what is missing of it. Split clusters keep their index (the first
-// part) and append the second part at the end (clusters, normals and label updated);
-// returns, for each appended cluster, the index of the cluster it was cut from.
-std::vector<int> split_touching_pairs(
-    const Frame& frame, std::vector<ScanCluster>& clusters, std::vector<std::vector<Vec3>>& normals,
-    std::vector<int>& label, const std::function<void(ScanCluster&, int, std::vector<Vec3>&)>& refit,
+// The cut of one cluster, when it is worth it: its two parts, fitted, and their normals.
+struct TouchingCut {
+  ScanCluster a, b;
+  std::vector<Vec3> normals_a, normals_b;
+};
+
+// refit(part, normals): smooths the part (its own pixels its only neighbours) and fits
+// its shape, filling its normals. Only a cluster seen_whole() is tried: one cut by the
+// image border or hidden in part fits poorly for what is missing of it. Reads only this
+// cluster (clusters are independent: the scanner tries each beside the others' fits);
+// the scanner keeps the first part at the cluster's index and appends the second.
+std::optional<TouchingCut> touching_cut(
+    const Frame& frame, const ScanCluster& cluster,
+    const std::function<void(ScanCluster&, std::vector<Vec3>&)>& refit,
     const std::function<bool(const ScanCluster&)>& seen_whole, const ShapeRecognizerParams& shape,
     const TouchingSplitParams& params = {});
 

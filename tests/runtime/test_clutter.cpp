@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <functional>
@@ -568,6 +569,44 @@ TEST(OsdExpectations, ErrorsNameLineAndColumn) {
   ASSERT_TRUE(good.ok());
   EXPECT_EQ(good->class_of("learn1", 3), "cylinder");
   EXPECT_EQ(good->class_of("learn1", 4), "any");
+}
+
+// Grown objects are fitted again beside the label's rebuild and the pieces that joining
+// occluded pieces reads (scanner.cpp: one pass of independent items): learn28's and
+// learn31's boxes, joined from two pieces (the scene differs with the join off), scan
+// the same on one, two and three threads, bit for bit.
+TEST(ClutterOsd, JoinedPiecesScanTheSameOnOneTwoAndThreeThreads) {
+  const std::filesystem::path dir = std::filesystem::path(ANNEX_SHARED_DIR) / "data/osd-learn";
+  if (!std::filesystem::exists(dir / "learn28_depth.png"))
+    GTEST_SKIP() << "../shared/data/osd-learn is absent: OSD test skipped";
+  for (const std::string name : {"learn28", "learn31"}) {
+    Result<OsdScene> scene = read_osd_scene(dir, name);
+    ASSERT_TRUE(scene.ok()) << scene.error().format();
+    ScanParams one;
+    one.threads = 1;
+    const Result<ScanResult> base = scan_frame(scene->frame, one);
+    ASSERT_TRUE(base.ok()) << name << ": " << base.error().format();
+    ScanParams apart = one;
+    apart.join_occluded = false;
+    const Result<ScanResult> pieces = scan_frame(scene->frame, apart);
+    ASSERT_TRUE(pieces.ok()) << name << ": " << pieces.error().format();
+    EXPECT_LT(base->scene.objects.size(), pieces->scene.objects.size()) << name;
+    for (int threads : {2, 3}) {
+      ScanParams p = one;
+      p.threads = threads;
+      const Result<ScanResult> r = scan_frame(scene->frame, p);
+      ASSERT_TRUE(r.ok()) << name << ": " << r.error().format();
+      EXPECT_TRUE(r->scene == base->scene) << name << ", threads " << threads;
+      ASSERT_EQ(r->clusters.size(), base->clusters.size()) << name << ", threads " << threads;
+      for (size_t c = 0; c < r->clusters.size(); ++c) {
+        EXPECT_EQ(r->clusters[c].pixels, base->clusters[c].pixels) << name << ", object " << c;
+        const auto& a = r->clusters[c].points;
+        const auto& b = base->clusters[c].points;
+        EXPECT_TRUE(a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0))
+            << name << ", threads " << threads << ", object " << c;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -148,6 +148,33 @@ TEST(ScanThreads, GeneratedWorldScenesScanTheSameOnOneTwoAndThreeThreads) {
   }
 }
 
+// Touching bodies are cut in two inside the clusters' fits (touching_split.h), beside
+// the other clusters' fits: two held-out rooms where a cut is kept (the scene differs
+// from the one with the cut off: the path is exercised) scan the same on one, two and
+// three threads.
+TEST(ScanThreads, TouchingPairsCutScanTheSameOnOneTwoAndThreeThreads) {
+  int cut = 0;
+  for (std::uint64_t seed : {5051u, 5118u}) {
+    const Result<SyntheticScene> scene = generate_scene(room_scene_params(seed));
+    ASSERT_TRUE(scene.ok()) << scene.error().format();
+    const Frame frame = render_scene(*scene).frame;
+    const std::string what = "room seed " + std::to_string(seed);
+    const size_t objects = expect_same_scan(frame, what);
+    ScanParams uncut;
+    uncut.threads = 1;
+    uncut.touching_max_coverage = 0;
+    const Result<ScanResult> whole = scan_frame(frame, uncut);
+    ASSERT_TRUE(whole.ok()) << what << ": " << whole.error().format();
+    EXPECT_GT(objects, 0u) << what;
+    ScanParams one;
+    one.threads = 1;
+    const Result<ScanResult> base = scan_frame(frame, one);
+    ASSERT_TRUE(base.ok()) << what << ": " << base.error().format();
+    cut += write_scene(base->scene) != write_scene(whole->scene);
+  }
+  EXPECT_EQ(cut, 2);
+}
+
 }  // namespace
 // The strided pixels are gathered in chunks of grid rows on the scan's threads: frames
 // whose grid neither fills the last chunk nor the last column (a crop of a world scene
