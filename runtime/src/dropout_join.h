@@ -25,6 +25,11 @@ struct DropoutJoinParams {
 // tolerance at depth z; floor(grid): the points a cluster needs (its grid pixels count
 // step^2 each, as the scanner counts them). Returns the clusters with each joined group
 // in place of its first fragment, the other fragments removed, order otherwise kept.
+std::vector<std::vector<int>> join_dropout_fragments(
+    const Frame& frame, const std::vector<char>& mask, std::vector<std::vector<int>> grids, int step,
+    const std::function<double(double)>& tolerance,
+    const std::function<int(const std::vector<int>&)>& floor, const DropoutJoinParams& params = {});
+
 // The pixels an object covers in the image, with depth or not: `pixels` (image indices,
 // each with depth) and the pixels without depth they enclose, those inside a run of
 // missing pixels at most max_gap_px long with one of `pixels` at each end both in its
@@ -44,10 +49,5 @@ int silhouette_pixels(const Frame& frame, const std::vector<int>& pixels, int ma
 // `grid` itself.
 std::vector<int> dropout_block_pixels(const Frame& frame, const std::vector<int>& grid, int step,
                                       const std::function<bool(int, int)>& accept);
-
-std::vector<std::vector<int>> join_dropout_fragments(
-    const Frame& frame, const std::vector<char>& mask, std::vector<std::vector<int>> grids, int step,
-    const std::function<double(double)>& tolerance,
-    const std::function<int(const std::vector<int>&)>& floor, const DropoutJoinParams& params = {});
 
 }  // namespace annex

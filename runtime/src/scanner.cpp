@@ -714,8 +714,6 @@ bool continues_above(const Frame& f, const std::vector<int>& grid_pixels, int st
   return joins >= std::max<size_t>(8, grid_pixels.size() / 50);
 }
 
-// Full-resolution pixels of a cluster found on the strided grid: each grid pixel's
-// block, keeping pixels in the height band and near their grid pixel in 3D.
 // Whether pixel q (with depth) belongs with the cluster's grid pixel c in its block:
 // above the support's band, below the height band's top, within the clustering
 // tolerance (tol2 its square) of c.
@@ -727,6 +725,8 @@ bool expands_to(const PointXYZRGB& c, const PointXYZRGB& q, double tol2, const P
   return dx * dx + dy * dy + dz * dz <= tol2;
 }
 
+// Full-resolution pixels of a cluster found on the strided grid: each grid pixel's
+// block, keeping pixels in the height band and near their grid pixel in 3D.
 std::vector<int> expand_cluster(const Frame& f, const std::vector<int>& grid_pixels, int step,
                                 const PlaneFit& plane, const ScanParams& params) {
   // Pixels come out in raster order: grid pixels sorted, then each grid row's blocks
