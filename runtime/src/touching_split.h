@@ -5,11 +5,11 @@
 // points poorly. Such a cluster is cut in two where its footprint on the support holds
 // two blobs (two means along its long axis); when what the one primitive leaves out lies
 // on one side of that cut (one body explained, the other not), each part is fitted
-// again, and the two kept
-// when they explain the points better than the one by the information criterion: the
-// residuals in units of the Kinect's axial noise at their depth, a point the fit leaves
-// out costing as much as one at the fit's tolerance, against ln(n) per parameter (each
-// part's shape and the cut's two) over the independent points. Private to the scanner.
+// again, and the two are kept when they explain the points better than the one by the
+// information criterion: the residuals in units of the Kinect's axial noise at their
+// depth, a point the fit leaves out costing as much as one at the fit's tolerance,
+// against ln(n) per parameter (each part's shape and the cut's two) over the
+// independent points. Private to the scanner.
 
 #include <functional>
 #include <optional>
