@@ -1782,6 +1782,35 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   for (const std::vector<int>& grid : grids)
     if (static_cast<int>(grid.size()) * stride * stride >= least_points(grid) / 2)
       holds[static_cast<size_t>(mask[grid.front()] - 1)] = 1;
+  // Each grid's support, lowest height above it and extent across the view: what the
+  // rule for a body under an unseen top (below) asks of the clusters standing on it.
+  struct Footing {
+    int support = 0;
+    bool object_sized = false;
+    double low_h = 0, x_mid = 0;
+    double low_ahead = 0;  // its lowest point's distance ahead of the camera along the plane
+  };
+  std::vector<Footing> footing(grids.size());
+  if (params.on_top_noise_factor > 0)
+    for (size_t g = 0; g < grids.size(); ++g) {
+      const std::vector<int>& grid = grids[g];
+      Footing& ft = footing[g];
+      ft.support = mask[grid.front()] - 1;
+      ft.object_sized = static_cast<int>(grid.size()) * stride * stride >= least_points(grid) / 2;
+      const PlaneFit& pl = found[static_cast<size_t>(ft.support)].plane;
+      const Vec3 view_x = normalized(Vec3{1, 0, 0} - pl.n * pl.n.x);
+      const Vec3 ahead = normalized(Vec3{0, 0, 1} - pl.n * pl.n.z);
+      double lo = 1e9, hi = -1e9;
+      ft.low_h = 1e9;
+      for (int i : grid) {
+        const Vec3 p = to_vec(f.points[i]);
+        const double h = dot(pl.n, p) + pl.d;
+        if (h < ft.low_h) ft.low_h = h, ft.low_ahead = dot(ahead, p);
+        lo = std::min(lo, dot(view_x, p));
+        hi = std::max(hi, dot(view_x, p));
+      }
+      ft.x_mid = 0.5 * (lo + hi);
+    }
   // The clusters kept as objects' candidates, split below.
   struct Accepted {
     const std::vector<int>* grid = nullptr;
@@ -1819,13 +1848,13 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     // along the camera's x axis laid on the plane: a box seen face-on shows no depth,
     // but its full width.
     const Vec3 view_x = normalized(Vec3{1, 0, 0} - plane.n * plane.n.x);
-    double x_lo = 1e9, x_hi = -1e9, top_h = -1e9, bottom_h = 1e9;
+    double x_lo = 1e9, x_hi = -1e9, top_h = -1e9, bottom_h = 1e9, top_z = 0;
     for (int i : grid) {
       const Vec3 p = to_vec(f.points[i]);
       x_lo = std::min(x_lo, dot(view_x, p));
       x_hi = std::max(x_hi, dot(view_x, p));
       const double h = dot(plane.n, p) + plane.d;
-      top_h = std::max(top_h, h);
+      if (h > top_h) top_h = h, top_z = p.z;
       bottom_h = std::min(bottom_h, h);
     }
     const double width = x_hi - x_lo;
@@ -1855,6 +1884,35 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
       body = 2 * on_top >= at_height && 20 * on_top >= grid.size();
     }
     if (body) continue;
+    // The same body when its top is no support found (a cabinet seen level, its top at
+    // a grazing angle): a cluster on the same support has its lowest point at this one's
+    // top height, within the noise, its middle over this one's width across the view and
+    // its foot behind this one's front. It is the top's own fragments or what stands on
+    // it; either way this cluster is the front of furniture, not a prop.
+    bool pieces_on_top = false;
+    // Furniture-sized both ways: a bottle or a tall box as high is narrow, and its top's
+    // rim comes apart just as a cabinet's top does.
+    if (params.on_top_noise_factor > 0 && top_h >= params.furniture_min_height_m &&
+        width >= params.furniture_min_width_m && reaches_support) {
+      const double tol = params.on_top_noise_factor * cluster_tolerance(params, top_z);
+      // A top at the band's top is where the band cuts the body (the cut-top rule).
+      const bool top_inside_band = top_h < params.max_height_m - tol;
+      // Its front along the plane: what is on its top lies behind the front (at the front
+      // is its own rim: a lip, a handle) by at most about its width (a top is about as
+      // deep as it is wide); what is farther stands behind the body, its foot hidden at
+      // the top's height by a level view.
+      const Vec3 ahead = normalized(Vec3{0, 0, 1} - plane.n * plane.n.z);
+      double front = 1e9;
+      for (int i : grid) front = std::min(front, dot(ahead, to_vec(f.points[i])));
+      const size_t self = static_cast<size_t>(&grid - grids.data());
+      for (size_t o = 0; o < grids.size() && top_inside_band && !pieces_on_top; ++o) {
+        const Footing& ft = footing[o];
+        pieces_on_top = o != self && ft.support == k && ft.object_sized && std::abs(ft.low_h - top_h) <= tol &&
+                        ft.x_mid > x_lo && ft.x_mid < x_hi && ft.low_ahead > front + tol &&
+                        ft.low_ahead < front + width + tol;
+      }
+    }
+    if (pieces_on_top) continue;
     // Under a support above its own, inside its hull, and spanning only a small share
     // of its width across the view: a table's leg, a chair's base under the table,
     // not an object. A cluster as wide as the support is the body of the object whose

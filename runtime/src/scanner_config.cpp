@@ -77,6 +77,8 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"under_width_share", Kind::unit_share, &p.under_width_share},
       {"legs_on_lowest_only", Kind::flag, nullptr, nullptr, 0, &p.legs_on_lowest_only},
       {"furniture_min_height_m", Kind::non_negative, &p.furniture_min_height_m},
+      {"on_top_noise_factor", Kind::non_negative, &p.on_top_noise_factor},
+      {"furniture_min_width_m", Kind::non_negative, &p.furniture_min_width_m},
       {"min_stand_ratio", Kind::non_negative, &p.min_stand_ratio},
       {"cut_top_share", Kind::unit_share, &p.cut_top_share},
       {"support_edge_m", Kind::non_negative, &p.support_edge_m},

@@ -165,6 +165,31 @@ TEST(FurnitureRules, AChairsBackRisingBehindTheTableIsPartial) {
   expect_rule_takes({5037u, 5119u, 7021u}, true, kLabelChair, with, without, 3);
 }
 
+TEST(FurnitureRules, ACabinetsFrontWithPiecesOnItsTopIsNoProp) {
+  // Held-out seed 5114: a cabinet 51 cm tall beside the table, 2.7 m from a level camera
+  // 50 cm above its top, a cone on it. Its top, seen at 10 degrees, is no support found
+  // and comes apart from the front (its rows spaced wider than the cluster tolerance),
+  // so the body rule (a support holding objects) cannot apply: the cabinet's front came
+  // out as a box of 41 x 9 x 50 cm reported whole. The top's pieces and the cone have
+  // their lowest points at the front's top height, over its width and behind it: the
+  // front is furniture's, no prop.
+  ScanParams without;
+  without.on_top_noise_factor = 0;
+  expect_rule_takes({5114u}, false, kLabelFurniture, ScanParams{}, without, 1);
+}
+
+TEST(FurnitureRules, ABottleAsTallAsFurnitureIsNoCabinet) {
+  // Seed 9039 (world_scene_params, a fresh seed of session 11): a cylinder 30 cm tall and
+  // 12 cm wide on the table 2.1 m away, its top's rim come apart from its side at its top
+  // height, was dropped as a cabinet's front with pieces on its top. Furniture is as wide
+  // as it is tall (furniture_min_width_m); a bottle that tall is not.
+  ScanParams without;
+  without.furniture_min_width_m = 0;
+  const Seen on = scan_seeds({9039u}, false, kLabelFurniture, ScanParams{});
+  const Seen off = scan_seeds({9039u}, false, kLabelFurniture, without);
+  EXPECT_EQ(on.found, off.found + 1);
+}
+
 // Objects standing on a shelf's boards (their truth support a board), not cut by the
 // border, that some scanned object shows, and all truth objects so shown, over the
 // held-out rooms `seeds` (with the objects on the boards).

@@ -280,6 +280,8 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->min_support_gap_m, d.min_support_gap_m);
   EXPECT_EQ(p->under_width_share, d.under_width_share);
   EXPECT_EQ(p->furniture_min_height_m, d.furniture_min_height_m);
+  EXPECT_EQ(p->on_top_noise_factor, d.on_top_noise_factor);
+  EXPECT_EQ(p->furniture_min_width_m, d.furniture_min_width_m);
   EXPECT_EQ(p->floor_margin_m, d.floor_margin_m);
   EXPECT_EQ(p->cluster_noise_factor, d.cluster_noise_factor);
   EXPECT_EQ(p->min_cluster_points_far, d.min_cluster_points_far);

@@ -97,6 +97,16 @@ struct ScanParams {
   // stands at least this far above the body's own support: furniture rises to a
   // working height, while a box a can stands on is a prop of hand size (stacking).
   double furniture_min_height_m = 0.3;
+  // So is a body rising that far whose top is no support found (a cabinet seen level,
+  // its top at a grazing angle) when a cluster on the same support has its lowest point
+  // at that top's height, within this many cluster tolerances (the noise of either),
+  // over its width and behind its front: its top's pieces or what stands on it
+  // (session 11). 0: off.
+  double on_top_noise_factor = 2.0;
+  // ... and when the body is at least this wide across the view: furniture holds things
+  // on a top wider than a hand spans; a prop as tall (a bottle, a tall box) is
+  // narrower, and its top's rim comes apart from its front just as a cabinet's top does.
+  double furniture_min_width_m = 0.3;
   // A cluster rising at least furniture_min_height_m above its support yet narrower
   // across the view than this share of that height is a leg or a pole, not a prop: a
   // free-standing thing that slim tips over past atan(ratio) (0.15: 8.5 degrees).
