@@ -1985,26 +1985,50 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   std::vector<size_t> fit_sizes(clusters.size());
   for (size_t c = 0; c < clusters.size(); ++c) fit_sizes[c] = result.clusters[c].points.size();
   const std::vector<size_t> fit_order = largest_first(fit_sizes);
+  // The image border as the sensor sees it: the rectangle of rows and columns that
+  // hold depth (a Kinect leaves a few invalid rows and columns at its edges).
+  int left = 0, right = f.width - 1, top = 0, bottom = f.height - 1;
+  {
+    const std::vector<int>& rows = valid_rows;
+    const std::vector<int>& cols = valid_cols;
+    auto first = [](const std::vector<int>& v, int need) {
+      for (size_t k = 0; k < v.size(); ++k)
+        if (v[k] >= need) return static_cast<int>(k);
+      return 0;
+    };
+    auto last = [](const std::vector<int>& v, int need) {
+      for (size_t k = v.size(); k-- > 0;)
+        if (v[k] >= need) return static_cast<int>(k);
+      return static_cast<int>(v.size()) - 1;
+    };
+    top = first(rows, gw / 5) * stride, bottom = last(rows, gw / 5) * stride + stride - 1;
+    left = first(cols, gh / 5) * stride, right = last(cols, gh / 5) * stride + stride - 1;
+  }
+  const int border = std::max(0, params.border_px);
+  // Cut by the image's border (three pixels or more within border_px of it) or hidden
+  // in half under something nearer: what is missing of it no one sees. The objects'
+  // partial flag (below), and no cut of touching bodies, whose fit is poor for that.
+  const auto cut_or_hidden = [&](const std::vector<int>& pixels) {
+    int at_border = 0;
+    size_t covered = 0;
+    for (int i : pixels) {
+      const int x = i % f.width, y = i / f.width;
+      at_border += x < left + border || y < top + border || x > right - border || y > bottom - border;
+      covered += hidden[static_cast<size_t>(i)];
+    }
+    return at_border >= 3 || 2 * covered > pixels.size();
+  };
   // Touching bodies one primitive explains poorly, in two (touching_split.h): each
   // cluster tried right after its fit, in its own item, so that its refits run beside
   // the other clusters' fits; the cuts kept are applied in cluster order below.
-  const auto seen_whole = [&](const ScanCluster& sc) {
-    // Not cut by the image's edge (border_px from it), not hidden in half.
-    const int b = std::max(0, params.border_px);
-    size_t covered = 0;
-    for (int i : sc.pixels) {
-      const int x = i % f.width, y = i / f.width;
-      if (x < b || y < b || x >= f.width - b || y >= f.height - b) return false;
-      covered += hidden[static_cast<size_t>(i)];
-    }
-    return 2 * covered <= sc.pixels.size();
-  };
+  const auto seen_whole = [&](const ScanCluster& sc) { return !cut_or_hidden(sc.pixels); };
   const auto refit_part = [&](ScanCluster& sc, std::vector<Vec3>& n) {
     smooth_part(f, sc.pixels, params, sc.points, n);
     sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape);
   };
   const TouchingSplitParams touching{.max_whole_coverage = params.touching_max_coverage,
-                                     .min_part_points = params.min_whole_points};
+                                     .min_part_points = params.min_whole_points,
+                                     .waist_share = params.touching_waist_share};
   std::vector<std::optional<TouchingCut>> cuts(clusters.size());
   parallel_for(clusters.size(), [&](size_t c) {
     ScanCluster& sc = result.clusters[c];
@@ -2092,26 +2116,6 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
       if (at != u) result.clusters[u].on_object = l;
     }
   }
-  // The image border as the sensor sees it: the rectangle of rows and columns that
-  // hold depth (a Kinect leaves a few invalid rows and columns at its edges).
-  int left = 0, right = f.width - 1, top = 0, bottom = f.height - 1;
-  {
-    const std::vector<int>& rows = valid_rows;
-    const std::vector<int>& cols = valid_cols;
-    auto first = [](const std::vector<int>& v, int need) {
-      for (size_t k = 0; k < v.size(); ++k)
-        if (v[k] >= need) return static_cast<int>(k);
-      return 0;
-    };
-    auto last = [](const std::vector<int>& v, int need) {
-      for (size_t k = v.size(); k-- > 0;)
-        if (v[k] >= need) return static_cast<int>(k);
-      return static_cast<int>(v.size()) - 1;
-    };
-    top = first(rows, gw / 5) * stride, bottom = last(rows, gw / 5) * stride + stride - 1;
-    left = first(cols, gh / 5) * stride, right = last(cols, gh / 5) * stride + stride - 1;
-  }
-  const int border = std::max(0, params.border_px);
   const auto band_at = [&](double z) { return plane_band(params, z); };
   // Each object's record reads its cluster alone: one item per object, the biggest
   // first, kept in cluster order.
@@ -2128,17 +2132,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     obj.fit = sc.shape.fit;
     for (const ScanSupport& sp : result.supports)
       if (sp.surface.plane == sc.support) obj.support_id = sp.surface.id;
-    int at_border = 0;
-    for (int i : sc.pixels) {
-      const int x = i % f.width, y = i / f.width;
-      at_border += x < left + border || y < top + border || x > right - border ||
-                   y > bottom - border;
-    }
-    size_t covered = 0;
-    for (int i : sc.pixels) covered += hidden[static_cast<size_t>(i)];
-    obj.partial = at_border >= 3 || foot_cut_by_bottom(f, sc.pixels, bottom, params, band_at) ||
-                  obj.point_count < params.min_whole_points ||
-                  2 * covered > sc.pixels.size() || sc.shape.depth_unseen;
+    obj.partial = cut_or_hidden(sc.pixels) || foot_cut_by_bottom(f, sc.pixels, bottom, params, band_at) ||
+                  obj.point_count < params.min_whole_points || sc.shape.depth_unseen;
   }, &object_order);
   result.stages.push_back({"shapes", ms_since(t0)});
   order_and_name_objects(result);

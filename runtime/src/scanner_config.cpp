@@ -65,6 +65,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"part_margin_m", Kind::non_negative, &p.part_margin_m},
       {"part_share", Kind::unit_share, &p.part_share},
       {"touching_max_coverage", Kind::unit_share, &p.touching_max_coverage},
+      {"touching_waist_share", Kind::unit_share, &p.touching_waist_share},
       {"threads", Kind::whole, nullptr, &p.threads, 1},
       {"max_planes", Kind::whole, nullptr, &p.max_planes, 1},
       {"support_reach_m", Kind::positive, &p.support_reach_m},

@@ -412,6 +412,21 @@ TEST(ScannerRooms, TouchingPairsOnePrimitiveExplainsPoorlyAreCutInTwo) {
   EXPECT_LE(after.pieces_extra, before.pieces_extra);
 }
 
+// Two bodies of a size under one primitive (two balls: a box or a cylinder over both)
+// leave out a share of each, so the one-side test alone does not refit the cut; their
+// footprint narrows to their contact, which a convex body's never does. Against the
+// scan with the one-side test alone on the same rooms: more pairs found as two
+// objects, more classed right, no more extra pieces.
+TEST(ScannerRooms, TouchingPairsWhoseFootprintNarrowsBetweenThemAreCutInTwo) {
+  ScanParams one_side;
+  one_side.touching_waist_share = 0;
+  const FeatureFigures before = scan_feature("touching", 6041, 6080, 2.5, 0, one_side);
+  const FeatureFigures after = scan_feature("touching", 6041, 6080, 2.5);
+  EXPECT_GT(after.pairs_split, before.pairs_split);
+  EXPECT_GT(after.correct, before.correct);
+  EXPECT_LE(after.pieces_extra, before.pieces_extra);
+}
+
 TEST(ScannerRooms, ObjectsAcrossATableEdgeAreOneObjectOfTheirShape) {
   const FeatureFigures r = scan_feature("overhang", 6001, 6010, 2.5);
   EXPECT_GE(r.objects, 8);

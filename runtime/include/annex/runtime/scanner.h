@@ -182,6 +182,12 @@ struct ScanParams {
   // veil at its edges (0.9 and more on the generated sets), two bodies under one leave
   // out one of them (0.4 to 0.75). 0: off.
   double touching_max_coverage = 0.8;
+  // ... and refitted in two when what its primitive leaves out lies on one side of the
+  // cut, or when its footprint narrows between the cut's two means to under this share
+  // of its width at the narrower one: a convex body's footprint never narrows between
+  // two of its points, two touching ones narrow to their contact. 0: the one-side test
+  // alone.
+  double touching_waist_share = 0.7;
   // An object whose base sits on another object's top is fitted on that top face.
   bool stack_on_objects = true;
   // Pieces of one shape either side of a nearer object, which one primitive explains
