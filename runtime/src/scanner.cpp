@@ -28,6 +28,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -881,8 +882,15 @@ bool mostly_inside(const ShapeFit& solid, const std::vector<Vec3>& pts, double m
 // bigger object's fitted solid is a part of it that a depth edge cut off (a bottle's
 // handle behind its rim). Each such part joins the biggest object that contains it
 // (its pixels, and `label`, the owner's) and is removed; returns the grown objects'
-// indices, biggest first, which the caller smooths and fits again.
-std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, std::vector<int>& label) {
+// indices, biggest first, which the caller smooths and fits again. An object whose
+// extent no one sees (`unseen`: cut by the image border, or hidden in half) holds no
+// part: its fitted primitive spans what is seen of it, not its solid (a shelf's side
+// and board edge cut by the border, fitted as one box, span the board and what stands
+// on it). What lies in such an object and in no other is kept apart, its pixels marked
+// in `apart` (a piece of the cut object, or an object of its own: no one can tell).
+std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, std::vector<int>& label,
+                                const std::function<bool(const ScanCluster&)>& unseen,
+                                std::vector<char>& apart) {
   const size_t n = result.clusters.size();
   if (n < 2 || params.part_margin_m <= 0) return {};
   std::vector<size_t> by_size(n);
@@ -900,14 +908,22 @@ std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, st
     for (size_t j = 0; j < k; ++j) {
       const ScanCluster& big = result.clusters[by_size[j]];
       if (big.shape.primitives.empty() || !(big.support == part.support)) continue;
-      holds[k][j] = mostly_inside(big.shape.primitives.front(), part.points, params.part_margin_m,
-                                  params.part_share);
+      // 1: holds the part; 2: would, but its extent is unseen.
+      if (mostly_inside(big.shape.primitives.front(), part.points, params.part_margin_m, params.part_share))
+        holds[k][j] = params.unseen_hold_no_parts && unseen(big) ? 2 : 1;
     }
   });
   std::vector<int> owner(n, -1);
-  for (size_t k = 1; k < n; ++k)
-    for (size_t j = 0; j < k && owner[by_size[k]] < 0; ++j)
-      if (owner[by_size[j]] < 0 && holds[k][j]) owner[by_size[k]] = static_cast<int>(by_size[j]);
+  for (size_t k = 1; k < n; ++k) {
+    bool in_unseen = false;
+    for (size_t j = 0; j < k && owner[by_size[k]] < 0; ++j) {
+      if (owner[by_size[j]] >= 0) continue;
+      if (holds[k][j] == 1) owner[by_size[k]] = static_cast<int>(by_size[j]);
+      in_unseen = in_unseen || holds[k][j] == 2;
+    }
+    if (owner[by_size[k]] < 0 && in_unseen)
+      for (int i : result.clusters[by_size[k]].pixels) apart[static_cast<size_t>(i)] = 1;
+  }
   std::vector<char> grown(n, 0);
   for (size_t c = 0; c < n; ++c) {
     if (owner[c] < 0) continue;
@@ -2068,7 +2084,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
       stacked.emplace_back(sc.pixels.front(), result.clusters[sc.on_object].pixels.front());
     sc.on_object = -1;
   }
-  const std::vector<size_t> grown = merge_parts(params, result, label);
+  std::vector<char> apart(f.points.size(), 0);
+  const std::vector<size_t> grown = merge_parts(
+      params, result, label, [&](const ScanCluster& sc) { return cut_or_hidden(sc.pixels); }, apart);
   // The grown objects fitted again (each on its own pixels: refit_part) beside what
   // joining occluded pieces reads (the label rebuilt, each object's piece): one pass of
   // independent items, the refits first (the longest).
@@ -2132,8 +2150,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     obj.fit = sc.shape.fit;
     for (const ScanSupport& sp : result.supports)
       if (sp.surface.plane == sc.support) obj.support_id = sp.surface.id;
+    // Kept apart from an object cut by the border or hidden, whose piece it may be.
+    size_t kept_apart = 0;
+    for (int i : sc.pixels) kept_apart += apart[static_cast<size_t>(i)];
     obj.partial = cut_or_hidden(sc.pixels) || foot_cut_by_bottom(f, sc.pixels, bottom, params, band_at) ||
-                  obj.point_count < params.min_whole_points || sc.shape.depth_unseen;
+                  obj.point_count < params.min_whole_points || sc.shape.depth_unseen ||
+                  2 * kept_apart > sc.pixels.size();
   }, &object_order);
   result.stages.push_back({"shapes", ms_since(t0)});
   order_and_name_objects(result);

@@ -174,6 +174,11 @@ struct ScanParams {
   // handle): it joins that object, which is fitted again. 0 disables.
   double part_margin_m = 0.015;
   double part_share = 0.6;
+  // ... unless the bigger object's extent is unseen (cut by the image border, or hidden
+  // in half: the partial flag's test): its primitive spans what is seen of it, not its
+  // solid (a shelf's side and board edge as one box span the board and what stands on
+  // it). false: any bigger object holds parts.
+  bool unseen_hold_no_parts = true;
   // Clusters split at concave creases and depth steps (object_segmenter.h).
   SegmenterParams segment;
   // A cluster whose shape explains less than this share of its points is tried as two
