@@ -28,6 +28,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -881,8 +882,15 @@ bool mostly_inside(const ShapeFit& solid, const std::vector<Vec3>& pts, double m
 // bigger object's fitted solid is a part of it that a depth edge cut off (a bottle's
 // handle behind its rim). Each such part joins the biggest object that contains it
 // (its pixels, and `label`, the owner's) and is removed; returns the grown objects'
-// indices, biggest first, which the caller smooths and fits again.
-std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, std::vector<int>& label) {
+// indices, biggest first, which the caller smooths and fits again. An object whose
+// extent no one sees (`unseen`: cut by the image border, or hidden in half) holds no
+// part: its fitted primitive spans what is seen of it, not its solid (a shelf's side
+// and board edge cut by the border, fitted as one box, span the board and what stands
+// on it). What lies in such an object and in no other is kept apart, its pixels marked
+// in `apart` (a piece of the cut object, or an object of its own: no one can tell).
+std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, std::vector<int>& label,
+                                const std::function<bool(const ScanCluster&)>& unseen,
+                                std::vector<char>& apart) {
   const size_t n = result.clusters.size();
   if (n < 2 || params.part_margin_m <= 0) return {};
   std::vector<size_t> by_size(n);
@@ -900,14 +908,22 @@ std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, st
     for (size_t j = 0; j < k; ++j) {
       const ScanCluster& big = result.clusters[by_size[j]];
       if (big.shape.primitives.empty() || !(big.support == part.support)) continue;
-      holds[k][j] = mostly_inside(big.shape.primitives.front(), part.points, params.part_margin_m,
-                                  params.part_share);
+      // 1: holds the part; 2: would, but its extent is unseen.
+      if (mostly_inside(big.shape.primitives.front(), part.points, params.part_margin_m, params.part_share))
+        holds[k][j] = params.unseen_hold_no_parts && unseen(big) ? 2 : 1;
     }
   });
   std::vector<int> owner(n, -1);
-  for (size_t k = 1; k < n; ++k)
-    for (size_t j = 0; j < k && owner[by_size[k]] < 0; ++j)
-      if (owner[by_size[j]] < 0 && holds[k][j]) owner[by_size[k]] = static_cast<int>(by_size[j]);
+  for (size_t k = 1; k < n; ++k) {
+    bool in_unseen = false;
+    for (size_t j = 0; j < k && owner[by_size[k]] < 0; ++j) {
+      if (owner[by_size[j]] >= 0) continue;
+      if (holds[k][j] == 1) owner[by_size[k]] = static_cast<int>(by_size[j]);
+      in_unseen = in_unseen || holds[k][j] == 2;
+    }
+    if (owner[by_size[k]] < 0 && in_unseen)
+      for (int i : result.clusters[by_size[k]].pixels) apart[static_cast<size_t>(i)] = 1;
+  }
   std::vector<char> grown(n, 0);
   for (size_t c = 0; c < n; ++c) {
     if (owner[c] < 0) continue;
@@ -2043,26 +2059,50 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   std::vector<size_t> fit_sizes(clusters.size());
   for (size_t c = 0; c < clusters.size(); ++c) fit_sizes[c] = result.clusters[c].points.size();
   const std::vector<size_t> fit_order = largest_first(fit_sizes);
+  // The image border as the sensor sees it: the rectangle of rows and columns that
+  // hold depth (a Kinect leaves a few invalid rows and columns at its edges).
+  int left = 0, right = f.width - 1, top = 0, bottom = f.height - 1;
+  {
+    const std::vector<int>& rows = valid_rows;
+    const std::vector<int>& cols = valid_cols;
+    auto first = [](const std::vector<int>& v, int need) {
+      for (size_t k = 0; k < v.size(); ++k)
+        if (v[k] >= need) return static_cast<int>(k);
+      return 0;
+    };
+    auto last = [](const std::vector<int>& v, int need) {
+      for (size_t k = v.size(); k-- > 0;)
+        if (v[k] >= need) return static_cast<int>(k);
+      return static_cast<int>(v.size()) - 1;
+    };
+    top = first(rows, gw / 5) * stride, bottom = last(rows, gw / 5) * stride + stride - 1;
+    left = first(cols, gh / 5) * stride, right = last(cols, gh / 5) * stride + stride - 1;
+  }
+  const int border = std::max(0, params.border_px);
+  // Cut by the image's border (three pixels or more within border_px of it) or hidden
+  // in half under something nearer: what is missing of it no one sees. The objects'
+  // partial flag (below), and no cut of touching bodies, whose fit is poor for that.
+  const auto cut_or_hidden = [&](const std::vector<int>& pixels) {
+    int at_border = 0;
+    size_t covered = 0;
+    for (int i : pixels) {
+      const int x = i % f.width, y = i / f.width;
+      at_border += x < left + border || y < top + border || x > right - border || y > bottom - border;
+      covered += hidden[static_cast<size_t>(i)];
+    }
+    return at_border >= 3 || 2 * covered > pixels.size();
+  };
   // Touching bodies one primitive explains poorly, in two (touching_split.h): each
   // cluster tried right after its fit, in its own item, so that its refits run beside
   // the other clusters' fits; the cuts kept are applied in cluster order below.
-  const auto seen_whole = [&](const ScanCluster& sc) {
-    // Not cut by the image's edge (border_px from it), not hidden in half.
-    const int b = std::max(0, params.border_px);
-    size_t covered = 0;
-    for (int i : sc.pixels) {
-      const int x = i % f.width, y = i / f.width;
-      if (x < b || y < b || x >= f.width - b || y >= f.height - b) return false;
-      covered += hidden[static_cast<size_t>(i)];
-    }
-    return 2 * covered <= sc.pixels.size();
-  };
+  const auto seen_whole = [&](const ScanCluster& sc) { return !cut_or_hidden(sc.pixels); };
   const auto refit_part = [&](ScanCluster& sc, std::vector<Vec3>& n) {
     smooth_part(f, sc.pixels, params, sc.points, n);
     sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape);
   };
   const TouchingSplitParams touching{.max_whole_coverage = params.touching_max_coverage,
-                                     .min_part_points = params.min_whole_points};
+                                     .min_part_points = params.min_whole_points,
+                                     .waist_share = params.touching_waist_share};
   std::vector<std::optional<TouchingCut>> cuts(clusters.size());
   parallel_for(clusters.size(), [&](size_t c) {
     ScanCluster& sc = result.clusters[c];
@@ -2102,7 +2142,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
       stacked.emplace_back(sc.pixels.front(), result.clusters[sc.on_object].pixels.front());
     sc.on_object = -1;
   }
-  const std::vector<size_t> grown = merge_parts(params, result, label);
+  std::vector<char> apart(f.points.size(), 0);
+  const std::vector<size_t> grown = merge_parts(
+      params, result, label, [&](const ScanCluster& sc) { return cut_or_hidden(sc.pixels); }, apart);
   // The grown objects fitted again (each on its own pixels: refit_part) beside what
   // joining occluded pieces reads (the label rebuilt, each object's piece): one pass of
   // independent items, the refits first (the longest).
@@ -2150,26 +2192,6 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
       if (at != u) result.clusters[u].on_object = l;
     }
   }
-  // The image border as the sensor sees it: the rectangle of rows and columns that
-  // hold depth (a Kinect leaves a few invalid rows and columns at its edges).
-  int left = 0, right = f.width - 1, top = 0, bottom = f.height - 1;
-  {
-    const std::vector<int>& rows = valid_rows;
-    const std::vector<int>& cols = valid_cols;
-    auto first = [](const std::vector<int>& v, int need) {
-      for (size_t k = 0; k < v.size(); ++k)
-        if (v[k] >= need) return static_cast<int>(k);
-      return 0;
-    };
-    auto last = [](const std::vector<int>& v, int need) {
-      for (size_t k = v.size(); k-- > 0;)
-        if (v[k] >= need) return static_cast<int>(k);
-      return static_cast<int>(v.size()) - 1;
-    };
-    top = first(rows, gw / 5) * stride, bottom = last(rows, gw / 5) * stride + stride - 1;
-    left = first(cols, gh / 5) * stride, right = last(cols, gh / 5) * stride + stride - 1;
-  }
-  const int border = std::max(0, params.border_px);
   const auto band_at = [&](double z) { return plane_band(params, z); };
   // Each object's record reads its cluster alone: one item per object, the biggest
   // first, kept in cluster order.
@@ -2186,17 +2208,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     obj.fit = sc.shape.fit;
     for (const ScanSupport& sp : result.supports)
       if (sp.surface.plane == sc.support) obj.support_id = sp.surface.id;
-    int at_border = 0;
-    for (int i : sc.pixels) {
-      const int x = i % f.width, y = i / f.width;
-      at_border += x < left + border || y < top + border || x > right - border ||
-                   y > bottom - border;
-    }
-    size_t covered = 0;
-    for (int i : sc.pixels) covered += hidden[static_cast<size_t>(i)];
-    obj.partial = at_border >= 3 || foot_cut_by_bottom(f, sc.pixels, bottom, params, band_at) ||
-                  obj.point_count < params.min_whole_points ||
-                  2 * covered > sc.pixels.size() || sc.shape.depth_unseen;
+    // Kept apart from an object cut by the border or hidden, whose piece it may be.
+    size_t kept_apart = 0;
+    for (int i : sc.pixels) kept_apart += apart[static_cast<size_t>(i)];
+    obj.partial = cut_or_hidden(sc.pixels) || foot_cut_by_bottom(f, sc.pixels, bottom, params, band_at) ||
+                  obj.point_count < params.min_whole_points || sc.shape.depth_unseen ||
+                  2 * kept_apart > sc.pixels.size();
   }, &object_order);
   result.stages.push_back({"shapes", ms_since(t0)});
   order_and_name_objects(result);

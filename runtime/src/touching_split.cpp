@@ -68,14 +68,23 @@ double residual_energy(const FitTerms& t, const ShapeRecognizerParams& shape) {
   return t.coverage * (t.rms / sigma) * (t.rms / sigma) + (1 - t.coverage) * (tol / sigma) * (tol / sigma);
 }
 
+// The two means' cut of a cluster's footprint: each pixel's side, the footprint's points
+// on the support (e1, e2) and the two means.
+struct MeansCut {
+  std::vector<char> side;
+  std::vector<std::array<double, 2>> q;
+  std::array<double, 2> m0{}, m1{};
+};
+
 // The cluster's pixels in two by two means of their footprint on the support, started
-// at the ends of its long axis; empty when either part is too small (under min_share of
-// the pixels or min_points).
-std::vector<char> two_means(const Frame& f, const ScanCluster& c, double min_share, int min_points) {
+// at the ends of its long axis; no side when either part is too small (under min_share
+// of the pixels or min_points).
+MeansCut two_means(const Frame& f, const ScanCluster& c, double min_share, int min_points) {
   const Vec3 n = c.support.normal;
   const Vec3 seed = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
   const Vec3 e1 = normalized(cross(n, seed)), e2 = cross(n, e1);
-  std::vector<std::array<double, 2>> q;
+  MeansCut cut;
+  std::vector<std::array<double, 2>>& q = cut.q;
   q.reserve(c.pixels.size());
   double ma = 0, mb = 0;
   for (int i : c.pixels) {
@@ -104,7 +113,8 @@ std::vector<char> two_means(const Frame& f, const ScanCluster& c, double min_sha
   if (len <= 0 || l1 <= 0) return {};
   ax /= len, ay /= len;
   const double sd = std::sqrt(l1);
-  std::array<double, 2> m0{ma - sd * ax, mb - sd * ay}, m1{ma + sd * ax, mb + sd * ay};
+  std::array<double, 2>&m0 = cut.m0, &m1 = cut.m1;
+  m0 = {ma - sd * ax, mb - sd * ay}, m1 = {ma + sd * ax, mb + sd * ay};
   // The means from an even subsample of at most kMeanPoints pixels (a mean of a few
   // thousand moves by a fraction of a millimetre), then every pixel to the nearer.
   constexpr size_t kMeanPoints = 2000;
@@ -130,8 +140,9 @@ std::vector<char> two_means(const Frame& f, const ScanCluster& c, double min_sha
   std::vector<char> side(q.size(), 0);
   for (size_t k = 0; k < q.size(); ++k) side[k] = nearer_second(q[k]);
   const auto ones = static_cast<double>(std::count(side.begin(), side.end(), 1));
-  if (std::min(ones, n_q - ones) < std::max(min_share * n_q, static_cast<double>(min_points))) return {};
-  return side;
+  if (std::min(ones, n_q - ones) < std::max(min_share * n_q, static_cast<double>(min_points))) return cut;
+  cut.side = std::move(side);
+  return cut;
 }
 
 // Distance from p to the surface of a fitted primitive (its solid's boundary).
@@ -184,6 +195,37 @@ bool misfit_on_one_side(const Frame& f, const ScanCluster& c, const std::vector<
   return 3 * std::max(out[0], out[1]) >= 2 * (out[0] + out[1]);
 }
 
+// Whether the footprint narrows between the two means. Across the line through two of
+// its points, the width of a convex body's footprint is a concave function along it (no
+// narrower between them than at the narrower end), so a width between the means under
+// waist_share of that at the narrower mean is where two bodies meet: two balls or tins
+// of a size narrow to a point at their contact, whichever is explained (the misfit of
+// a cylinder over both spreads along it). The footprint is cut in kWaistBins bins from
+// one mean to the other, each mean's width the widest of the two bins beside it.
+bool footprint_waist(const MeansCut& cut, double waist_share) {
+  constexpr int kWaistBins = 16;
+  const std::array<double, 2> u{cut.m1[0] - cut.m0[0], cut.m1[1] - cut.m0[1]};
+  const double len2 = u[0] * u[0] + u[1] * u[1];
+  if (!(len2 > 0)) return false;
+  // Bins of 1/kWaistBins of the means' distance, one more beyond each mean.
+  std::array<double, kWaistBins + 2> lo, hi;
+  lo.fill(1e9), hi.fill(-1e9);
+  const size_t stride = std::max<size_t>(1, cut.q.size() / 2000);  // an even subsample
+  for (size_t k = 0; k < cut.q.size(); k += stride) {
+    const double dx = cut.q[k][0] - cut.m0[0], dy = cut.q[k][1] - cut.m0[1];
+    const double along = (dx * u[0] + dy * u[1]) / len2, across = (dy * u[0] - dx * u[1]) / std::sqrt(len2);
+    const int b = static_cast<int>(std::floor((along + 1.0 / kWaistBins) * kWaistBins));
+    if (b < 0 || b > kWaistBins + 1) continue;
+    lo[static_cast<size_t>(b)] = std::min(lo[static_cast<size_t>(b)], across);
+    hi[static_cast<size_t>(b)] = std::max(hi[static_cast<size_t>(b)], across);
+  }
+  const auto width = [&](int b) { return std::max(0.0, hi[static_cast<size_t>(b)] - lo[static_cast<size_t>(b)]); };
+  const double ends = std::min(std::max(width(0), width(1)), std::max(width(kWaistBins), width(kWaistBins + 1)));
+  double narrowest = 1e9;
+  for (int b = 2; b < kWaistBins; ++b) narrowest = std::min(narrowest, width(b));
+  return narrowest < waist_share * ends;
+}
+
 // The criterion (touching_split.h) of a cut into parts a and b against the whole.
 struct Criterion {
   double one = 0, two = 0;
@@ -213,8 +255,11 @@ std::optional<TouchingCut> touching_cut(
     const TouchingSplitParams& params) {
   const FitTerms whole = terms_of(f, cluster);
   if (whole.coverage >= params.max_whole_coverage || !seen_whole(cluster)) return std::nullopt;
-  const std::vector<char> side = two_means(f, cluster, params.min_part_share, params.min_part_points);
-  if (side.empty() || !misfit_on_one_side(f, cluster, side, shape)) return std::nullopt;
+  const MeansCut means = two_means(f, cluster, params.min_part_share, params.min_part_points);
+  const std::vector<char>& side = means.side;
+  if (side.empty() ||
+      !(misfit_on_one_side(f, cluster, side, shape) || (params.waist_share > 0 && footprint_waist(means, params.waist_share))))
+    return std::nullopt;
   ScanCluster a, b;
   a.support = b.support = cluster.support;
   for (size_t k = 0; k < side.size(); ++k) (side[k] ? b : a).pixels.push_back(cluster.pixels[k]);

@@ -31,6 +31,11 @@ struct TouchingSplitParams {
   // would be reported partial, and far away a few independent samples cannot tell one
   // primitive from two.
   int min_part_points = 400;
+  // The cut is refitted when what the one primitive leaves out lies on one side of it,
+  // or when the footprint narrows between the two means to under this share of its
+  // width at the narrower one (ScanParams::touching_waist_share; a convex body's
+  // footprint never narrows between two of its points); 0: the one-side test alone.
+  double waist_share = 0.7;
 };
 
 // The cut of one cluster, when it is worth it: its two parts, fitted, and their normals.

@@ -184,6 +184,11 @@ struct ScanParams {
   // handle): it joins that object, which is fitted again. 0 disables.
   double part_margin_m = 0.015;
   double part_share = 0.6;
+  // ... unless the bigger object's extent is unseen (cut by the image border, or hidden
+  // in half: the partial flag's test): its primitive spans what is seen of it, not its
+  // solid (a shelf's side and board edge as one box span the board and what stands on
+  // it). false: any bigger object holds parts.
+  bool unseen_hold_no_parts = true;
   // Clusters split at concave creases and depth steps (object_segmenter.h).
   SegmenterParams segment;
   // A cluster whose shape explains less than this share of its points is tried as two
@@ -192,6 +197,12 @@ struct ScanParams {
   // veil at its edges (0.9 and more on the generated sets), two bodies under one leave
   // out one of them (0.4 to 0.75). 0: off.
   double touching_max_coverage = 0.8;
+  // ... and refitted in two when what its primitive leaves out lies on one side of the
+  // cut, or when its footprint narrows between the cut's two means to under this share
+  // of its width at the narrower one: a convex body's footprint never narrows between
+  // two of its points, two touching ones narrow to their contact. 0: the one-side test
+  // alone.
+  double touching_waist_share = 0.7;
   // An object whose base sits on another object's top is fitted on that top face.
   bool stack_on_objects = true;
   // Pieces of one shape either side of a nearer object, which one primitive explains
