@@ -1041,9 +1041,16 @@ struct GapReach {
   double cell = 1;
   long a0 = 0, b0 = 0, na = 0, nb = 0;  // the cells' bounds, one cell beyond the pixels'
   std::vector<char> near_cells;         // na x nb, 1 at a cell with a region's pixel or beside one
+  // floor(x / cell) as a whole number: the truncation, one less below zero where it
+  // rounded up (exact for a finite quotient; std::floor is a library call without SSE4.1).
+  long cell_of(double x) const {
+    const double q = x / cell;
+    const long t = static_cast<long>(q);
+    return t - (static_cast<double>(t) > q);
+  }
   bool near(Vec3 p) const {
-    const long a = static_cast<long>(std::floor(dot(u, p) / cell)) - a0;
-    const long b = static_cast<long>(std::floor(dot(v, p) / cell)) - b0;
+    const long a = cell_of(dot(u, p)) - a0;
+    const long b = cell_of(dot(v, p)) - b0;
     return a >= 0 && a < na && b >= 0 && b < nb && near_cells[static_cast<size_t>(a * nb + b)];
   }
 };
@@ -1057,8 +1064,12 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
   r.v = cross(plane.n, r.u);
   // The pixels' coordinates on the plane, and the cells: at most some four million of
   // them whatever the points' spread (a frame of bad depths spans kilometres), coarser
-  // cells then, which only widen the reach.
+  // cells then, which only widen the reach. The coordinates' array is sized once: the
+  // serial plane stage walks every member here.
+  size_t n = 0;
+  for (const PlaneRegions& reg : regions) n += reg.members.size();
   std::vector<std::array<double, 2>> uv;
+  uv.reserve(n);
   double lo_u = std::numeric_limits<double>::infinity(), hi_u = -lo_u, lo_v = lo_u, hi_v = -lo_u;
   for (const PlaneRegions& reg : regions)
     for (int i : reg.members) {
@@ -1069,11 +1080,10 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
     }
   if (uv.empty() || !(hi_u >= lo_u) || !(hi_v >= lo_v)) return r;
   r.cell = std::max(params.support_gap_reach_m, std::sqrt((hi_u - lo_u + 1) * (hi_v - lo_v + 1) / 4e6));
-  auto cell_of = [&](double x) { return static_cast<long>(std::floor(x / r.cell)); };
-  r.a0 = cell_of(lo_u) - 1, r.b0 = cell_of(lo_v) - 1;
-  r.na = cell_of(hi_u) + 2 - r.a0, r.nb = cell_of(hi_v) + 2 - r.b0;
+  r.a0 = r.cell_of(lo_u) - 1, r.b0 = r.cell_of(lo_v) - 1;
+  r.na = r.cell_of(hi_u) + 2 - r.a0, r.nb = r.cell_of(hi_v) + 2 - r.b0;
   std::vector<char> held(static_cast<size_t>(r.na * r.nb), 0);
-  for (const auto& [a, b] : uv) held[static_cast<size_t>((cell_of(a) - r.a0) * r.nb + (cell_of(b) - r.b0))] = 1;
+  for (const auto& [a, b] : uv) held[static_cast<size_t>((r.cell_of(a) - r.a0) * r.nb + (r.cell_of(b) - r.b0))] = 1;
   // Each held cell and its eight neighbours are near.
   r.near_cells.assign(held.size(), 0);
   for (long a = 1; a + 1 < r.na; ++a)
