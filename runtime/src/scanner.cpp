@@ -119,9 +119,9 @@ PlaneFit fit_plane(const std::vector<Vec3>& pts) {
   return {{n.x(), n.y(), n.z()}, -n.dot(mean), true};
 }
 
+// The plane a search found; the caller's one pass over the pool counts its inliers.
 struct PlaneSearch {
   PlaneFit plane;
-  int inliers = 0;  // strided
 };
 
 // Seeded RANSAC over the strided pixels still in the pool (`free` marks them), then
@@ -225,7 +225,6 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
     if (dot(refit.n, up) < cos_max) break;
     plane = refit;
   }
-  for (const Vec3& p : pts) best.inliers += std::abs(dot(plane.n, p) + plane.d) < band;
   best.plane = plane;
   return best;
 }
@@ -374,8 +373,6 @@ PlaneSearch find_parallel_plane(const ScanParams& params, const PlaneFit& first,
     if (dot(refit.n, first.n) < cos_max || refit.d <= 0) break;
     plane = refit;
   }
-  // The caller counts the inliers (its one pass over the pool finds them).
-  best.inliers = peak_count;
   best.plane = plane;
   return best;
 }
@@ -1292,7 +1289,6 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
     // a fifth of a table's pixels still face up: dropout takes most of the rest.
     if (!planes.empty() && peak < min_region) break;
     if (!ps.plane.ok) break;
-    if (planes.empty() && ps.inliers * stride * stride < params.min_plane_points) break;
     if (!planes.empty()) {
       // The up-facing points of the peak's band (its pair of bins, peak_height +- band).
       const double band = params.plane_distance_m;
@@ -1318,16 +1314,21 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
       }
       if (echo) continue;
     }
-    // One pass finds the inliers for the regions and for leaving the pool.
+    // One pass finds the inliers for the regions and for leaving the pool, and counts
+    // those within the fixed band: a first plane holding fewer than min_plane_points
+    // there ends the search (find_plane's count, once its own pass over the pool).
     inliers.clear();
     inlier_cells.clear();
+    int fixed_band_inliers = 0;
     for (size_t k = 0; k < pool.size(); ++k) {
-      const Vec3& p = pool_pts[k];
-      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < pool_band[k]) {
+      const double h = std::abs(dot(ps.plane.n, pool_pts[k]) + ps.plane.d);
+      fixed_band_inliers += h < params.plane_distance_m;
+      if (h < pool_band[k]) {
         inliers.push_back(pool[k]);
         inlier_cells.push_back(pool_cells[k]);
       }
     }
+    if (planes.empty() && fixed_band_inliers * stride * stride < params.min_plane_points) break;
     if (!planes.empty() && !holds_support(f, inliers, ps.plane, params)) {
       // Too few points at this height (an object's top): its up-facing points leave
       // the candidates, and the next band is tried.
@@ -1339,11 +1340,19 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
     // points and heights above that plane are found too (facing_up), which the next
     // search reads once the plane counts (at the loop's top); they are found again for
     // the next plane tried as the first should this one not count.
+    // A first plane's test against a band cut across a wall (slices_steep_surface) reads
+    // only its inliers too: a third item, its answer read once the regions count.
     std::vector<PlaneRegions> regions;
     const bool first_plane = planes.empty();
-    parallel_for(2, [&](size_t job) {
+    const bool test_steep = first_plane && params.first_plane_fits_up;
+    bool steep = false;
+    parallel_for(test_steep ? 3 : 2, [&](size_t job) {
       if (job == 0) {
         regions = plane_regions(f, inliers, inlier_cells, stride, min_region, true);
+        return;
+      }
+      if (job == 2) {
+        steep = slices_steep_surface(f, inliers, ps.plane, up, params);
         return;
       }
       // Its inliers leave the search whether it counts or not (an object's top).
@@ -1366,15 +1375,20 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
         for (size_t k = 0; k < pool.size(); ++k) first_h[k] = dot(ps.plane.n, pool_pts[k]) + ps.plane.d;
       }
     });
-    std::vector<int> members;
-    for (const PlaneRegions& r : regions) members.insert(members.end(), r.members.begin(), r.members.end());
-    if (first_plane ? static_cast<long long>(members.size()) * stride * stride < params.min_plane_points
-                    : !holds_support(f, members, ps.plane, params))
-      continue;
+    // A first plane counts its regions' pixels; a later one asks holds_support of them.
+    size_t member_count = 0;
+    for (const PlaneRegions& r : regions) member_count += r.members.size();
+    if (first_plane) {
+      if (static_cast<long long>(member_count) * stride * stride < params.min_plane_points) continue;
+    } else {
+      std::vector<int> members;
+      members.reserve(member_count);
+      for (const PlaneRegions& r : regions) members.insert(members.end(), r.members.begin(), r.members.end());
+      if (!holds_support(f, members, ps.plane, params)) continue;
+    }
     // The first plane is a surface facing up, not a band cut obliquely across a wall
     // (slices_steep_surface); its inliers have left the pool, and the search goes on.
-    if (first_plane && params.first_plane_fits_up && slices_steep_surface(f, inliers, ps.plane, up, params))
-      continue;
+    if (test_steep && steep) continue;
     // Later supports share the first one's up once refined (single RANSAC triples on
     // a far, noisy floor scatter by more than that).
     if (!planes.empty() && dot(ps.plane.n, planes.front().first.n) < cos_tilt) continue;
