@@ -1040,11 +1040,12 @@ struct GapReach {
   std::vector<char> near_cells;         // na x nb, 1 at a cell with a region's pixel or beside one
   // floor(x / cell) as a whole number: the truncation, one less below zero where it
   // rounded up (exact for a finite quotient; std::floor is a library call without SSE4.1).
-  long cell_of(double x) const {
+  static long cell_of(double x, double cell) {
     const double q = x / cell;
     const long t = static_cast<long>(q);
     return t - (static_cast<double>(t) > q);
   }
+  long cell_of(double x) const { return cell_of(x, cell); }
   bool near(Vec3 p) const {
     const long a = cell_of(dot(u, p)) - a0;
     const long b = cell_of(dot(v, p)) - b0;
@@ -1056,9 +1057,11 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
                    const ScanParams& params) {
   GapReach r;
   if (params.support_gap_reach_m <= 0) return r;
+  // The loops read local copies: their stores (a double, a char) could alias r's fields,
+  // which the compiler would then load again per pixel.
   const Vec3 seed = std::abs(plane.n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  r.u = normalized(cross(plane.n, seed));
-  r.v = cross(plane.n, r.u);
+  const Vec3 u = normalized(cross(plane.n, seed)), v = cross(plane.n, u);
+  r.u = u, r.v = v;
   // The pixels' coordinates on the plane, and the cells: at most some four million of
   // them whatever the points' spread (a frame of bad depths spans kilometres), coarser
   // cells then, which only widen the reach. The coordinates' array is sized once: the
@@ -1071,7 +1074,7 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
   for (const PlaneRegions& reg : regions)
     for (int i : reg.members) {
       const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
-      const double a = dot(r.u, p), b = dot(r.v, p);
+      const double a = dot(u, p), b = dot(v, p);
       uv.push_back({a, b});
       lo_u = std::min(lo_u, a), hi_u = std::max(hi_u, a), lo_v = std::min(lo_v, b), hi_v = std::max(hi_v, b);
     }
@@ -1079,8 +1082,11 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
   r.cell = std::max(params.support_gap_reach_m, std::sqrt((hi_u - lo_u + 1) * (hi_v - lo_v + 1) / 4e6));
   r.a0 = r.cell_of(lo_u) - 1, r.b0 = r.cell_of(lo_v) - 1;
   r.na = r.cell_of(hi_u) + 2 - r.a0, r.nb = r.cell_of(hi_v) + 2 - r.b0;
-  std::vector<char> held(static_cast<size_t>(r.na * r.nb), 0);
-  for (const auto& [a, b] : uv) held[static_cast<size_t>((r.cell_of(a) - r.a0) * r.nb + (r.cell_of(b) - r.b0))] = 1;
+  const double cell = r.cell;
+  const long a0 = r.a0, b0 = r.b0, nb = r.nb;
+  std::vector<char> held(static_cast<size_t>(r.na * nb), 0);
+  for (const auto& [a, b] : uv)
+    held[static_cast<size_t>((GapReach::cell_of(a, cell) - a0) * nb + (GapReach::cell_of(b, cell) - b0))] = 1;
   // Each held cell and its eight neighbours are near.
   r.near_cells.assign(held.size(), 0);
   for (long a = 1; a + 1 < r.na; ++a)
@@ -1341,14 +1347,18 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
     // search reads once the plane counts (at the loop's top); they are found again for
     // the next plane tried as the first should this one not count.
     // A first plane's test against a band cut across a wall (slices_steep_surface) reads
-    // only its inliers too: a third item, its answer read once the regions count.
+    // only its inliers too: a third item, its answer read once the regions count. Its
+    // reach (gap_reach) follows its regions in their item: no test below changes a first
+    // plane's regions, so they are the ones it is kept with.
     std::vector<PlaneRegions> regions;
     const bool first_plane = planes.empty();
     const bool test_steep = first_plane && params.first_plane_fits_up;
     bool steep = false;
+    GapReach first_reach;
     parallel_for(test_steep ? 3 : 2, [&](size_t job) {
       if (job == 0) {
         regions = plane_regions(f, inliers, inlier_cells, stride, min_region, true);
+        if (first_plane) first_reach = gap_reach(f, regions, ps.plane, params);
         return;
       }
       if (job == 2) {
@@ -1436,7 +1446,7 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
       if (!holds_support(f, above, ps.plane, params)) continue;
     }
     planes.emplace_back(ps.plane, std::move(regions));
-    reach.push_back(gap_reach(f, planes.back().second, ps.plane, params));
+    reach.push_back(first_plane ? std::move(first_reach) : gap_reach(f, planes.back().second, ps.plane, params));
     if (up_ready) clear_near(planes.size() - 1);
   }
   // The lowest plane is the floor (or the one support seen): one support of all its
