@@ -120,9 +120,9 @@ PlaneFit fit_plane(const std::vector<Vec3>& pts) {
   return {{n.x(), n.y(), n.z()}, -n.dot(mean), true};
 }
 
+// The plane a search found; the caller's one pass over the pool counts its inliers.
 struct PlaneSearch {
   PlaneFit plane;
-  int inliers = 0;  // strided
 };
 
 // Seeded RANSAC over the strided pixels still in the pool (`free` marks them), then
@@ -226,7 +226,6 @@ PlaneSearch find_plane(const Frame& f, const ScanParams& params, Vec3 up, double
     if (dot(refit.n, up) < cos_max) break;
     plane = refit;
   }
-  for (const Vec3& p : pts) best.inliers += std::abs(dot(plane.n, p) + plane.d) < band;
   best.plane = plane;
   return best;
 }
@@ -375,8 +374,6 @@ PlaneSearch find_parallel_plane(const ScanParams& params, const PlaneFit& first,
     if (dot(refit.n, first.n) < cos_max || refit.d <= 0) break;
     plane = refit;
   }
-  // The caller counts the inliers (its one pass over the pool finds them).
-  best.inliers = peak_count;
   best.plane = plane;
   return best;
 }
@@ -1057,9 +1054,17 @@ struct GapReach {
   double cell = 1;
   long a0 = 0, b0 = 0, na = 0, nb = 0;  // the cells' bounds, one cell beyond the pixels'
   std::vector<char> near_cells;         // na x nb, 1 at a cell with a region's pixel or beside one
+  // floor(x / cell) as a whole number: the truncation, one less below zero where it
+  // rounded up (exact for a finite quotient; std::floor is a library call without SSE4.1).
+  static long cell_of(double x, double cell) {
+    const double q = x / cell;
+    const long t = static_cast<long>(q);
+    return t - (static_cast<double>(t) > q);
+  }
+  long cell_of(double x) const { return cell_of(x, cell); }
   bool near(Vec3 p) const {
-    const long a = static_cast<long>(std::floor(dot(u, p) / cell)) - a0;
-    const long b = static_cast<long>(std::floor(dot(v, p) / cell)) - b0;
+    const long a = cell_of(dot(u, p)) - a0;
+    const long b = cell_of(dot(v, p)) - b0;
     return a >= 0 && a < na && b >= 0 && b < nb && near_cells[static_cast<size_t>(a * nb + b)];
   }
 };
@@ -1068,28 +1073,36 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
                    const ScanParams& params) {
   GapReach r;
   if (params.support_gap_reach_m <= 0) return r;
+  // The loops read local copies: their stores (a double, a char) could alias r's fields,
+  // which the compiler would then load again per pixel.
   const Vec3 seed = std::abs(plane.n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  r.u = normalized(cross(plane.n, seed));
-  r.v = cross(plane.n, r.u);
+  const Vec3 u = normalized(cross(plane.n, seed)), v = cross(plane.n, u);
+  r.u = u, r.v = v;
   // The pixels' coordinates on the plane, and the cells: at most some four million of
   // them whatever the points' spread (a frame of bad depths spans kilometres), coarser
-  // cells then, which only widen the reach.
+  // cells then, which only widen the reach. The coordinates' array is sized once: the
+  // serial plane stage walks every member here.
+  size_t n = 0;
+  for (const PlaneRegions& reg : regions) n += reg.members.size();
   std::vector<std::array<double, 2>> uv;
+  uv.reserve(n);
   double lo_u = std::numeric_limits<double>::infinity(), hi_u = -lo_u, lo_v = lo_u, hi_v = -lo_u;
   for (const PlaneRegions& reg : regions)
     for (int i : reg.members) {
       const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
-      const double a = dot(r.u, p), b = dot(r.v, p);
+      const double a = dot(u, p), b = dot(v, p);
       uv.push_back({a, b});
       lo_u = std::min(lo_u, a), hi_u = std::max(hi_u, a), lo_v = std::min(lo_v, b), hi_v = std::max(hi_v, b);
     }
   if (uv.empty() || !(hi_u >= lo_u) || !(hi_v >= lo_v)) return r;
   r.cell = std::max(params.support_gap_reach_m, std::sqrt((hi_u - lo_u + 1) * (hi_v - lo_v + 1) / 4e6));
-  auto cell_of = [&](double x) { return static_cast<long>(std::floor(x / r.cell)); };
-  r.a0 = cell_of(lo_u) - 1, r.b0 = cell_of(lo_v) - 1;
-  r.na = cell_of(hi_u) + 2 - r.a0, r.nb = cell_of(hi_v) + 2 - r.b0;
-  std::vector<char> held(static_cast<size_t>(r.na * r.nb), 0);
-  for (const auto& [a, b] : uv) held[static_cast<size_t>((cell_of(a) - r.a0) * r.nb + (cell_of(b) - r.b0))] = 1;
+  r.a0 = r.cell_of(lo_u) - 1, r.b0 = r.cell_of(lo_v) - 1;
+  r.na = r.cell_of(hi_u) + 2 - r.a0, r.nb = r.cell_of(hi_v) + 2 - r.b0;
+  const double cell = r.cell;
+  const long a0 = r.a0, b0 = r.b0, nb = r.nb;
+  std::vector<char> held(static_cast<size_t>(r.na * nb), 0);
+  for (const auto& [a, b] : uv)
+    held[static_cast<size_t>((GapReach::cell_of(a, cell) - a0) * nb + (GapReach::cell_of(b, cell) - b0))] = 1;
   // Each held cell and its eight neighbours are near.
   r.near_cells.assign(held.size(), 0);
   for (long a = 1; a + 1 < r.na; ++a)
@@ -1298,7 +1311,6 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
     // a fifth of a table's pixels still face up: dropout takes most of the rest.
     if (!planes.empty() && peak < min_region) break;
     if (!ps.plane.ok) break;
-    if (planes.empty() && ps.inliers * stride * stride < params.min_plane_points) break;
     if (!planes.empty()) {
       // The up-facing points of the peak's band (its pair of bins, peak_height +- band).
       const double band = params.plane_distance_m;
@@ -1324,16 +1336,21 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
       }
       if (echo) continue;
     }
-    // One pass finds the inliers for the regions and for leaving the pool.
+    // One pass finds the inliers for the regions and for leaving the pool, and counts
+    // those within the fixed band: a first plane holding fewer than min_plane_points
+    // there ends the search (find_plane's count, once its own pass over the pool).
     inliers.clear();
     inlier_cells.clear();
+    int fixed_band_inliers = 0;
     for (size_t k = 0; k < pool.size(); ++k) {
-      const Vec3& p = pool_pts[k];
-      if (std::abs(dot(ps.plane.n, p) + ps.plane.d) < pool_band[k]) {
+      const double h = std::abs(dot(ps.plane.n, pool_pts[k]) + ps.plane.d);
+      fixed_band_inliers += h < params.plane_distance_m;
+      if (h < pool_band[k]) {
         inliers.push_back(pool[k]);
         inlier_cells.push_back(pool_cells[k]);
       }
     }
+    if (planes.empty() && fixed_band_inliers * stride * stride < params.min_plane_points) break;
     if (!planes.empty() && !holds_support(f, inliers, ps.plane, params)) {
       // Too few points at this height (an object's top): its up-facing points leave
       // the candidates, and the next band is tried.
@@ -1345,11 +1362,23 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
     // points and heights above that plane are found too (facing_up), which the next
     // search reads once the plane counts (at the loop's top); they are found again for
     // the next plane tried as the first should this one not count.
+    // A first plane's test against a band cut across a wall (slices_steep_surface) reads
+    // only its inliers too: a third item, its answer read once the regions count. Its
+    // reach (gap_reach) follows its regions in their item: no test below changes a first
+    // plane's regions, so they are the ones it is kept with.
     std::vector<PlaneRegions> regions;
     const bool first_plane = planes.empty();
-    parallel_for(2, [&](size_t job) {
+    const bool test_steep = first_plane && params.first_plane_fits_up;
+    bool steep = false;
+    GapReach first_reach;
+    parallel_for(test_steep ? 3 : 2, [&](size_t job) {
       if (job == 0) {
         regions = plane_regions(f, inliers, inlier_cells, stride, min_region, true);
+        if (first_plane) first_reach = gap_reach(f, regions, ps.plane, params);
+        return;
+      }
+      if (job == 2) {
+        steep = slices_steep_surface(f, inliers, ps.plane, up, params);
         return;
       }
       // Its inliers leave the search whether it counts or not (an object's top).
@@ -1372,15 +1401,20 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
         for (size_t k = 0; k < pool.size(); ++k) first_h[k] = dot(ps.plane.n, pool_pts[k]) + ps.plane.d;
       }
     });
-    std::vector<int> members;
-    for (const PlaneRegions& r : regions) members.insert(members.end(), r.members.begin(), r.members.end());
-    if (first_plane ? static_cast<long long>(members.size()) * stride * stride < params.min_plane_points
-                    : !holds_support(f, members, ps.plane, params))
-      continue;
+    // A first plane counts its regions' pixels; a later one asks holds_support of them.
+    size_t member_count = 0;
+    for (const PlaneRegions& r : regions) member_count += r.members.size();
+    if (first_plane) {
+      if (static_cast<long long>(member_count) * stride * stride < params.min_plane_points) continue;
+    } else {
+      std::vector<int> members;
+      members.reserve(member_count);
+      for (const PlaneRegions& r : regions) members.insert(members.end(), r.members.begin(), r.members.end());
+      if (!holds_support(f, members, ps.plane, params)) continue;
+    }
     // The first plane is a surface facing up, not a band cut obliquely across a wall
     // (slices_steep_surface); its inliers have left the pool, and the search goes on.
-    if (first_plane && params.first_plane_fits_up && slices_steep_surface(f, inliers, ps.plane, up, params))
-      continue;
+    if (test_steep && steep) continue;
     // Later supports share the first one's up once refined (single RANSAC triples on
     // a far, noisy floor scatter by more than that).
     if (!planes.empty() && dot(ps.plane.n, planes.front().first.n) < cos_tilt) continue;
@@ -1428,7 +1462,7 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
       if (!holds_support(f, above, ps.plane, params)) continue;
     }
     planes.emplace_back(ps.plane, std::move(regions));
-    reach.push_back(gap_reach(f, planes.back().second, ps.plane, params));
+    reach.push_back(first_plane ? std::move(first_reach) : gap_reach(f, planes.back().second, ps.plane, params));
     if (up_ready) clear_near(planes.size() - 1);
   }
   // The lowest plane is the floor (or the one support seen): one support of all its

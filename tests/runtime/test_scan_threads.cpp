@@ -175,6 +175,30 @@ TEST(ScanThreads, TouchingPairsCutScanTheSameOnOneTwoAndThreeThreads) {
   EXPECT_EQ(cut, 2);
 }
 
+// A first plane's test against a band cut across a wall (slices_steep_surface) and its
+// reach (gap_reach) run as items beside its regions and the pool's compaction: unseen
+// seed 3038, whose first plane is such a band (the scene differs with the test off: the
+// path is exercised), and two more tuned seeds scan the same on one, two and three
+// threads (the real frames' test covers a second support kept within the first's reach).
+TEST(ScanThreads, FirstPlaneTestsBesideItsRegionsScanTheSameOnOneTwoAndThreeThreads) {
+  const Result<SyntheticScene> wall = generate_scene(world_scene_params(3038));
+  ASSERT_TRUE(wall.ok()) << wall.error().format();
+  const Frame frame = render_scene(*wall).frame;
+  EXPECT_GT(expect_same_scan(frame, "world seed 3038"), 0u);
+  ScanParams on, off;
+  on.threads = off.threads = 1;
+  off.first_plane_fits_up = false;
+  const Result<ScanResult> with_test = scan_frame(frame, on);
+  const Result<ScanResult> without = scan_frame(frame, off);
+  ASSERT_TRUE(with_test.ok() && without.ok());
+  EXPECT_NE(write_scene(with_test->scene), write_scene(without->scene));
+  for (std::uint64_t seed : {2003u, 2029u}) {
+    const Result<SyntheticScene> scene = generate_scene(world_scene_params(seed));
+    ASSERT_TRUE(scene.ok()) << scene.error().format();
+    EXPECT_GT(expect_same_scan(render_scene(*scene).frame, "world seed " + std::to_string(seed)), 0u);
+  }
+}
+
 }  // namespace
 // The strided pixels are gathered in chunks of grid rows on the scan's threads: frames
 // whose grid neither fills the last chunk nor the last column (a crop of a world scene
