@@ -22,6 +22,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <array>
 #include <chrono>
@@ -877,12 +878,31 @@ bool mostly_inside(const ShapeFit& solid, const std::vector<Vec3>& pts, double m
   return static_cast<double>(inside) >= need;
 }
 
+// Whether a pixel of `part` lies within `gap` pixels (along rows and columns) of a pixel
+// labelled `owner`: a piece cut off an object by a depth edge borders it in the image.
+bool borders_in_image(const std::vector<int>& part, const std::vector<int>& label, int width, int owner,
+                      int gap) {
+  const int height = static_cast<int>(label.size()) / width;
+  for (int i : part) {
+    const int u = i % width, v = i / width;
+    for (int y = std::max(0, v - gap); y <= std::min(height - 1, v + gap); ++y)
+      for (int x = std::max(0, u - gap); x <= std::min(width - 1, u + gap); ++x)
+        if (label[static_cast<size_t>(y * width + x)] == owner) return true;
+  }
+  return false;
+}
+
 // Two objects on a support cannot interpenetrate: a cluster lying mostly inside a
 // bigger object's fitted solid is a part of it that a depth edge cut off (a bottle's
 // handle behind its rim). Each such part joins the biggest object that contains it
 // (its pixels, and `label`, the owner's) and is removed; returns the grown objects'
 // indices, biggest first, which the caller smooths and fits again.
-std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, std::vector<int>& label) {
+// The solid of an object cut by the image border (`cut_by_border`) is extrapolated from
+// what the view keeps of it (rooms 5035: a cylinder of r 0.5 m from a sliver at the left
+// edge, which held a ball and a bowl 30 cm from it in the image): a cluster inside it is
+// its part only when it borders it in the image (`part_max_gap_px`; 0: not asked).
+std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, std::vector<int>& label,
+                                int width, const std::function<bool(const std::vector<int>&)>& cut_by_border) {
   const size_t n = result.clusters.size();
   if (n < 2 || params.part_margin_m <= 0) return {};
   std::vector<size_t> by_size(n);
@@ -894,6 +914,9 @@ std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, st
   // scan's threads (the pairs are independent), then the owners taken in size order as
   // before: the first bigger object, itself no part, that holds the part.
   std::vector<std::vector<char>> holds(n);
+  std::vector<char> cut(n, 0);
+  if (params.part_max_gap_px > 0)
+    for (size_t c = 0; c < n; ++c) cut[c] = cut_by_border(result.clusters[c].pixels);
   parallel_for(n, [&](size_t k) {
     const ScanCluster& part = result.clusters[by_size[k]];
     holds[k].assign(k, 0);
@@ -901,7 +924,9 @@ std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, st
       const ScanCluster& big = result.clusters[by_size[j]];
       if (big.shape.primitives.empty() || !(big.support == part.support)) continue;
       holds[k][j] = mostly_inside(big.shape.primitives.front(), part.points, params.part_margin_m,
-                                  params.part_share);
+                                  params.part_share) &&
+                    (!cut[by_size[j]] || borders_in_image(part.pixels, label, width, static_cast<int>(by_size[j]),
+                                                          params.part_max_gap_px));
     }
   });
   std::vector<int> owner(n, -1);
@@ -2044,7 +2069,36 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
       stacked.emplace_back(sc.pixels.front(), result.clusters[sc.on_object].pixels.front());
     sc.on_object = -1;
   }
-  const std::vector<size_t> grown = merge_parts(params, result, label);
+  // The image border as the sensor sees it: the rectangle of rows and columns that
+  // hold depth (a Kinect leaves a few invalid rows and columns at its edges).
+  int left = 0, right = f.width - 1, top = 0, bottom = f.height - 1;
+  {
+    const std::vector<int>& rows = valid_rows;
+    const std::vector<int>& cols = valid_cols;
+    auto first = [](const std::vector<int>& v, int need) {
+      for (size_t k = 0; k < v.size(); ++k)
+        if (v[k] >= need) return static_cast<int>(k);
+      return 0;
+    };
+    auto last = [](const std::vector<int>& v, int need) {
+      for (size_t k = v.size(); k-- > 0;)
+        if (v[k] >= need) return static_cast<int>(k);
+      return static_cast<int>(v.size()) - 1;
+    };
+    top = first(rows, gw / 5) * stride, bottom = last(rows, gw / 5) * stride + stride - 1;
+    left = first(cols, gh / 5) * stride, right = last(cols, gh / 5) * stride + stride - 1;
+  }
+  // A cluster with a pixel within border_px of the image border is cut by it.
+  const auto cut_by_border = [&](const std::vector<int>& pixels) {
+    for (int i : pixels) {
+      const int u = i % f.width, v = i / f.width;
+      if (u - left < params.border_px || right - u < params.border_px || v - top < params.border_px ||
+          bottom - v < params.border_px)
+        return true;
+    }
+    return false;
+  };
+  const std::vector<size_t> grown = merge_parts(params, result, label, f.width, cut_by_border);
   // The grown objects fitted again (each on its own pixels: refit_part) beside what
   // joining occluded pieces reads (the label rebuilt, each object's piece): one pass of
   // independent items, the refits first (the longest).
@@ -2091,25 +2145,6 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
         at = result.clusters[static_cast<size_t>(at)].on_object;
       if (at != u) result.clusters[u].on_object = l;
     }
-  }
-  // The image border as the sensor sees it: the rectangle of rows and columns that
-  // hold depth (a Kinect leaves a few invalid rows and columns at its edges).
-  int left = 0, right = f.width - 1, top = 0, bottom = f.height - 1;
-  {
-    const std::vector<int>& rows = valid_rows;
-    const std::vector<int>& cols = valid_cols;
-    auto first = [](const std::vector<int>& v, int need) {
-      for (size_t k = 0; k < v.size(); ++k)
-        if (v[k] >= need) return static_cast<int>(k);
-      return 0;
-    };
-    auto last = [](const std::vector<int>& v, int need) {
-      for (size_t k = v.size(); k-- > 0;)
-        if (v[k] >= need) return static_cast<int>(k);
-      return static_cast<int>(v.size()) - 1;
-    };
-    top = first(rows, gw / 5) * stride, bottom = last(rows, gw / 5) * stride + stride - 1;
-    left = first(cols, gh / 5) * stride, right = last(cols, gh / 5) * stride + stride - 1;
   }
   const int border = std::max(0, params.border_px);
   const auto band_at = [&](double z) { return plane_band(params, z); };

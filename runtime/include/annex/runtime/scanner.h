@@ -174,6 +174,11 @@ struct ScanParams {
   // handle): it joins that object, which is fitted again. 0 disables.
   double part_margin_m = 0.015;
   double part_share = 0.6;
+  // Inside an object cut by the image border (its solid extrapolated beyond the view),
+  // such a part must border it in the image: at most this many pixels apart, a depth
+  // edge's unclaimed pixels and a dark surface's dropout runs (dropout_max_gap_px). 0:
+  // not asked.
+  int part_max_gap_px = 8;
   // Clusters split at concave creases and depth steps (object_segmenter.h).
   SegmenterParams segment;
   // A cluster whose shape explains less than this share of its points is tried as two
