@@ -76,6 +76,7 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.range("min_view_cos", p.min_view_cos, 0, 1);
   c.non_negative("part_margin_m", p.part_margin_m);
   c.at_least("part_max_gap_px", p.part_max_gap_px, 0);
+  c.non_negative("overhang_margin_m", p.overhang_margin_m);
   c.range("part_share", p.part_share, 0, 1);
   c.range("touching_max_coverage", p.touching_max_coverage, 0, 1);
   c.range("min_support_seen_share", p.min_support_seen_share, 0, 1);
