@@ -473,6 +473,21 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
           std::printf("  seed %d truth %zu %s at %.2f m: missed (%d points seen", seed, t, row.c_str(), dist,
                       truth.point_count);
           for (const std::string& feature : features) std::printf(", %s", feature.c_str());
+          // The scanned object holding most of its pixels, when one does (a piece of a
+          // larger cluster: its majority is another object's or the background's).
+          std::map<size_t, int> held;
+          for (size_t k2 = 0; k2 < owner.size(); ++k2)
+            for (int i : scan->clusters[k2].pixels)
+              held[k2] += f.labels[static_cast<size_t>(i)] == static_cast<int>(t);
+          int holder = -1, most_held = 0;
+          for (const auto& [k2, n] : held)
+            if (n > most_held) most_held = n, holder = static_cast<int>(k2);
+          if (holder >= 0)
+            std::printf("; %d of them in %s of %zu pixels, mostly %s", most_held,
+                        scan->scene.objects[static_cast<size_t>(holder)].id.c_str(),
+                        scan->clusters[static_cast<size_t>(holder)].pixels.size(),
+                        owner[static_cast<size_t>(holder)] < 0 ? background_name(owner[static_cast<size_t>(holder)])
+                                                               : "another object");
           std::printf(")\n");
         }
         continue;

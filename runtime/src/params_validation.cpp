@@ -75,6 +75,7 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.at_least("mls_window_px", p.mls_window_px, 1);
   c.range("min_view_cos", p.min_view_cos, 0, 1);
   c.non_negative("part_margin_m", p.part_margin_m);
+  c.non_negative("overhang_margin_m", p.overhang_margin_m);
   c.range("part_share", p.part_share, 0, 1);
   c.range("touching_max_coverage", p.touching_max_coverage, 0, 1);
   c.range("touching_waist_share", p.touching_waist_share, 0, 1);

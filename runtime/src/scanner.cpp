@@ -22,6 +22,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <array>
 #include <chrono>
@@ -994,6 +995,7 @@ Vec3 effective_up(const ScanParams& params) {
 struct Found {
   PlaneFit plane;
   Hull2 hull;
+  Hull2 reach;  // the hull grown by overhang_margin_m (empty when 0)
   PlaneRegions regions;
   int points = 0;
 };
@@ -1620,16 +1622,18 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     // floor_margin_m; every support by hull_margin_m.
     const double margin = std::max(params.hull_margin_m,
                                    k == lowest && found.size() >= 1 ? params.floor_margin_m : 0.0);
-    if (margin > 0 && fd.hull.pts.size() >= 3) {
+    const auto grow = [&](const Hull2& h, double by) {
       std::vector<Vec3> grown;
-      for (const auto& q : fd.hull.pts)
+      for (const auto& q : h.pts)
         for (int j = 0; j < 16; ++j) {
           const double t = 2 * 3.14159265358979 * j / 16;
-          grown.push_back(fd.hull.u * (q[0] + margin * std::cos(t)) +
-                          fd.hull.v * (q[1] + margin * std::sin(t)));
+          grown.push_back(h.u * (q[0] + by * std::cos(t)) + h.v * (q[1] + by * std::sin(t)));
         }
-      fd.hull = convex_hull(grown, fd.plane.n);
-    }
+      return convex_hull(grown, fd.plane.n);
+    };
+    if (margin > 0 && fd.hull.pts.size() >= 3) fd.hull = grow(fd.hull, margin);
+    if (params.overhang_margin_m > 0 && fd.hull.pts.size() >= 3)
+      fd.reach = grow(fd.hull, params.overhang_margin_m);
     ScanSupport sup;
     sup.surface.id = "s" + std::to_string(k + 1);
     sup.surface.plane = {fd.plane.n, fd.plane.d};
@@ -1707,11 +1711,22 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   // then expanded to full resolution.
   const size_t ns = found.size();
   std::vector<char> mask(f.points.size(), 0);
+  std::vector<char> beyond(f.points.size(), 0);  // candidates beyond the hull (overhang)
   std::vector<int> seeds;
   // Pixels are independent: the pass runs in chunks of kPrismChunk strided pixels
   // handed out one at a time (a helper woken late from the plane stage's serial stretch
   // takes fewer: with one band per thread the caller waited for its band), each chunk's
   // seeds kept apart and joined in chunk order (raster order, as one pass gives them).
+  // What stands across a support's far edge hangs behind itself, hidden from the camera:
+  // a pixel beyond the hull whose point overhang_margin_m nearer the camera's foot (along
+  // the plane) is inside the hull lies past the far edge (office1's cupboard behind its
+  // desk), not across a near or side one.
+  const auto beyond_far_edge = [&](const Found& fd, Vec3 p) {
+    const Vec3 d = p - fd.plane.n * -fd.plane.d;
+    const Vec3 along = d - fd.plane.n * dot(fd.plane.n, d);
+    const double len = norm(along);
+    return len > 0 && fd.hull.contains(p - along * (params.overhang_margin_m / len));
+  };
   constexpr size_t kPrismChunk = 4096;
   const size_t prism_bands = (strided.size() + kPrismChunk - 1) / kPrismChunk;
   std::vector<std::vector<int>> band_seeds(prism_bands);
@@ -1721,8 +1736,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     for (size_t s = lo; s < hi; ++s) {
       const int i = strided[s];
       const Vec3 p = to_vec(f.points[i]);
-      int owner = -1;
-      double owner_h = 1e9;
+      int owner = -1, reached = -1;
+      double owner_h = 1e9, reached_h = 1e9;
       bool surface = false;
       for (size_t k = 0; k < ns; ++k) {
         const Found& fd = found[k];
@@ -1735,10 +1750,20 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
           surface = surface || (result.supports[k].furniture && fd.hull.contains(p));
           continue;
         }
-        if (!fd.hull.contains(p)) continue;
+        if (!fd.hull.contains(p)) {
+          if (h < reached_h && fd.reach.contains(p) && !beyond_far_edge(fd, p))
+            reached_h = h, reached = static_cast<int>(k);
+          continue;
+        }
         if (h < owner_h) owner_h = h, owner = static_cast<int>(k);
       }
-      if (surface || owner < 0) continue;
+      if (surface) continue;
+      // Beyond the hull's edge but within overhang_margin_m of it: a part of what stands
+      // across the edge, joined only by a cluster grown from inside (never a seed).
+      if (owner < 0) {
+        if (reached >= 0) mask[i] = static_cast<char>(reached + 1), beyond[i] = 1;
+        continue;
+      }
       mask[i] = static_cast<char>(owner + 1);
       out.push_back(i);
     }
@@ -1823,9 +1848,25 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   // The clustering tolerance at a depth, for the rules that compare depths.
   const auto tolerance = [&](double z) { return cluster_tolerance(params, z); };
   // A dark object's fragments, parted by its missing depth, joined (dropout_join.h).
+  // An object across its support's edge is a prop, which ends below the band's top: a
+  // cluster with pixels beyond the hull that reaches within the clustering tolerance of
+  // the band's top ran on into what stands beside the support (a wall, a wardrobe's
+  // front beside nyu_basement's upper bin, office1's cupboard behind its desk), and
+  // keeps its pixels inside the hull.
+  std::vector<std::vector<int>> grown_grids = grow_clusters(f, mask, seeds, stride, params);
+  for (std::vector<int>& grid : grown_grids) {
+    const PlaneFit& plane = found[static_cast<size_t>(mask[grid.front()] - 1)].plane;
+    bool over = false, tall = false;
+    for (int i : grid) {
+      over = over || beyond[i];
+      const Vec3 p = to_vec(f.points[i]);
+      tall = tall || dot(plane.n, p) + plane.d > params.max_height_m - cluster_tolerance(params, p.z);
+    }
+    if (over && tall)
+      grid.erase(std::remove_if(grid.begin(), grid.end(), [&](int i) { return beyond[i] != 0; }), grid.end());
+  }
   const std::vector<std::vector<int>> grids = join_dropout_fragments(
-      f, mask, grow_clusters(f, mask, seeds, stride, params), stride, tolerance, least_points,
-      DropoutJoinParams{params.dropout_max_gap_px});
+      f, mask, std::move(grown_grids), stride, tolerance, least_points, DropoutJoinParams{params.dropout_max_gap_px});
   // Which supports hold something: a cluster big enough to be an object stands on them
   // (selected or not: the choice of supports does not change what furniture is).
   std::vector<char> holds(ns, 0);

@@ -145,6 +145,12 @@ struct ScanParams {
   // The lowest support (the floor) grows by this much: it runs on under what stands
   // on it beyond its visible patches. 0 keeps the paper's hull.
   double floor_margin_m = 1.0;
+  // An object stands with its centre over its support (else it tips), so it reaches past
+  // the support's edge by at most its half width: pixels in the height band up to this
+  // far beyond the hull join a cluster grown from inside it (an object across a table's
+  // edge), and start none; not past the far edge (what hangs there is hidden behind the
+  // object). Half the widest prop's footprint. 0: off.
+  double overhang_margin_m = 0.1;
   // Clusters whose surface continues above max_height_m (walls, cupboards, people)
   // are not objects on the support: dropped when true.
   bool drop_cut_clusters = true;
