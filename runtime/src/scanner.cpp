@@ -22,7 +22,6 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <functional>
 #include <map>
 #include <array>
 #include <chrono>
@@ -1847,7 +1846,6 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   };
   // The clustering tolerance at a depth, for the rules that compare depths.
   const auto tolerance = [&](double z) { return cluster_tolerance(params, z); };
-  // A dark object's fragments, parted by its missing depth, joined (dropout_join.h).
   // An object across its support's edge is a prop, which ends below the band's top: a
   // cluster with pixels beyond the hull that reaches within the clustering tolerance of
   // the band's top ran on into what stands beside the support (a wall, a wardrobe's
@@ -1865,6 +1863,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     if (over && tall)
       grid.erase(std::remove_if(grid.begin(), grid.end(), [&](int i) { return beyond[i] != 0; }), grid.end());
   }
+  // A dark object's fragments, parted by its missing depth, joined (dropout_join.h).
   const std::vector<std::vector<int>> grids = join_dropout_fragments(
       f, mask, std::move(grown_grids), stride, tolerance, least_points, DropoutJoinParams{params.dropout_max_gap_px});
   // Which supports hold something: a cluster big enough to be an object stands on them
