@@ -1852,16 +1852,15 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   // front beside nyu_basement's upper bin, office1's cupboard behind its desk), and
   // keeps its pixels inside the hull.
   std::vector<std::vector<int>> grown_grids = grow_clusters(f, mask, seeds, stride, params);
+  const auto is_beyond = [&](int i) { return beyond[static_cast<size_t>(i)] != 0; };
   for (std::vector<int>& grid : grown_grids) {
+    if (std::none_of(grid.begin(), grid.end(), is_beyond)) continue;
     const PlaneFit& plane = found[static_cast<size_t>(mask[grid.front()] - 1)].plane;
-    bool over = false, tall = false;
-    for (int i : grid) {
-      over = over || beyond[i];
-      const Vec3 p = to_vec(f.points[i]);
-      tall = tall || dot(plane.n, p) + plane.d > params.max_height_m - cluster_tolerance(params, p.z);
-    }
-    if (over && tall)
-      grid.erase(std::remove_if(grid.begin(), grid.end(), [&](int i) { return beyond[i] != 0; }), grid.end());
+    const bool tall = std::any_of(grid.begin(), grid.end(), [&](int i) {
+      const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
+      return dot(plane.n, p) + plane.d > params.max_height_m - cluster_tolerance(params, p.z);
+    });
+    if (tall) grid.erase(std::remove_if(grid.begin(), grid.end(), is_beyond), grid.end());
   }
   // A dark object's fragments, parted by its missing depth, joined (dropout_join.h).
   const std::vector<std::vector<int>> grids = join_dropout_fragments(
@@ -1880,9 +1879,10 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     double low_h = 0, x_mid = 0;
     double low_ahead = 0;  // its lowest point's distance ahead of the camera along the plane
   };
+  // Each grid's own item on the scan's threads (the grids are independent).
   std::vector<Footing> footing(grids.size());
   if (params.on_top_noise_factor > 0)
-    for (size_t g = 0; g < grids.size(); ++g) {
+    parallel_for(grids.size(), [&](size_t g) {
       const std::vector<int>& grid = grids[g];
       Footing& ft = footing[g];
       ft.support = mask[grid.front()] - 1;
@@ -1900,7 +1900,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
         hi = std::max(hi, dot(view_x, p));
       }
       ft.x_mid = 0.5 * (lo + hi);
-    }
+    });
   // The clusters kept as objects' candidates, split below.
   struct Accepted {
     const std::vector<int>* grid = nullptr;
