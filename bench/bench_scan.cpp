@@ -308,6 +308,9 @@ const char* background_name(int label) {
     case kLabelFurniture: return "furniture";
     case kLabelChair: return "chair";
     case kLabelShelf: return "shelf";
+    case kLabelBackChair: return "back chair";
+    case kLabelCabinet: return "cabinet";
+    case kLabelPole: return "pole";
     default: return "background";
   }
 }
@@ -350,6 +353,8 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
   std::map<std::string, std::map<std::string, int>> confusion;
   int false_props = 0, false_legs = 0, false_furniture = 0, false_chairs = 0, false_shelves = 0,
       slivers = 0, partial_flagged = 0, cut_objects = 0, fragments = 0, scans = 0, failures = 0;
+  // room_scene_params' extra elements: false props on each, scenes that have each.
+  std::map<int, int> false_extras, extra_scenes;
   // The room features (room_scene_params): per feature and band, and touching pairs.
   std::map<std::string, std::array<BandTally, 3>> by_feature;
   std::map<std::string, std::map<std::string, int>> feature_confusion;
@@ -365,6 +370,8 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
       continue;
     }
     const SyntheticFrame f = render_scene(*scene);
+    for (int label : {kLabelBackChair, kLabelCabinet, kLabelPole})
+      extra_scenes[label] += std::find(f.labels.begin(), f.labels.end(), label) != f.labels.end();
     const auto t0 = Clock::now();
     const Result<ScanResult> scan = scan_frame(f.frame, params);
     scan_ms.push_back(ms_since(t0));
@@ -397,6 +404,7 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
         false_furniture += owner[k2] == kLabelFurniture;
         false_chairs += owner[k2] == kLabelChair;
         false_shelves += owner[k2] == kLabelShelf;
+        if (owner[k2] <= kLabelBackChair) ++false_extras[owner[k2]];
         if (verbose)
           std::printf("  seed %d %s: %s reported whole (%s, %d points)\n", seed, o.id.c_str(),
                       background_name(owner[k2]),
@@ -551,6 +559,11 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
               "objects flagged partial: %d (of %d cut objects); extra fragments: %d\n",
               false_props, false_legs, false_furniture, false_chairs, false_shelves, slivers,
               partial_flagged, cut_objects, fragments);
+  if (room)
+    std::printf("  room extras (scenes showing it: false props on it): back chair %d: %d, cabinet %d: %d, "
+                "pole %d: %d\n",
+                extra_scenes[kLabelBackChair], false_extras[kLabelBackChair], extra_scenes[kLabelCabinet],
+                false_extras[kLabelCabinet], extra_scenes[kLabelPole], false_extras[kLabelPole]);
   if (!by_feature.empty()) {
     std::printf("  room features (objects >= 5 cm, not cut; found / class / median size error per band):\n");
     for (const auto& [feature, bands3] : by_feature) {

@@ -200,6 +200,9 @@ int block_label(SyntheticBlock::Role role) {
     case SyntheticBlock::Role::leg: return kLabelLeg;
     case SyntheticBlock::Role::chair: return kLabelChair;
     case SyntheticBlock::Role::shelf: return kLabelShelf;
+    case SyntheticBlock::Role::back_chair: return kLabelBackChair;
+    case SyntheticBlock::Role::cabinet: return kLabelCabinet;
+    case SyntheticBlock::Role::pole: return kLabelPole;
     case SyntheticBlock::Role::support:
     case SyntheticBlock::Role::tall: return kLabelFurniture;
   }
@@ -250,6 +253,7 @@ void add_room_furniture(const SyntheticSceneParams& params, SyntheticScene& s, s
 void add_floor_objects(const SyntheticSceneParams& params, SyntheticScene& s, std::mt19937_64& rng,
                        std::vector<PixelRect>& rects);
 void add_shelf_objects(const SyntheticSceneParams& params, SyntheticScene& s, std::vector<PixelRect>& rects);
+void add_room_extras(const SyntheticSceneParams& params, SyntheticScene& s);
 std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std::mt19937_64& rng,
                                          int& placed_count);
 }  // namespace
@@ -272,9 +276,10 @@ Result<SyntheticScene> generate_scene(const SyntheticSceneParams& params) {
   auto share = [](double x) { return x >= 0 && x <= 1; };
   if (params.floor_objects < 0 || params.shelf_objects < 0 || !share(params.chair_chance) ||
       !share(params.shelf_chance) || !share(params.touching_share) || !share(params.overhang_share) ||
-      !share(params.dark_share))
-    return Error{"floor and shelf objects must not be negative; chair and shelf chances, touching, "
-                 "overhang and dark shares within [0, 1]",
+      !share(params.dark_share) || !share(params.back_chair_chance) || !share(params.cabinet_chance) ||
+      !share(params.pole_chance))
+    return Error{"floor and shelf objects must not be negative; chair, shelf, back chair, cabinet and "
+                 "pole chances, touching, overhang and dark shares within [0, 1]",
                  {}};
 
   // Whole layouts are redrawn (camera included) when the objects do not fit; the
@@ -363,6 +368,28 @@ bool sight_blocked(const SyntheticScene& s, Vec3 p) {
   return false;
 }
 
+// A chair's size and place: its seat's centre (x, y) on the floor plan, the seat's width
+// and depth, the seat top's height above the floor and the back's height above it.
+struct ChairSize {
+  double x, y, w, d, seat_top, back;
+};
+
+// A chair's seat, back and four legs as furniture blocks; its back on the seat's far
+// side (back_sign +1, away from the camera) or near side (-1, towards it).
+void add_chair(SyntheticScene& s, const ChairSize& c, double back_sign, SyntheticBlock::Role role) {
+  const double thick = 0.03, leg = 0.03, floor = -s.floor_depth_m;
+  s.furniture.push_back({{c.x, c.y, floor + c.seat_top - 0.5 * thick}, {c.w, c.d, thick}, role});
+  s.furniture.push_back(
+      {{c.x, c.y + back_sign * 0.5 * (c.d - thick), floor + c.seat_top + 0.5 * c.back}, {c.w, thick, c.back}, role});
+  const double leg_height = c.seat_top - thick;
+  for (double sx : {-1.0, 1.0})
+    for (double sy : {-1.0, 1.0})
+      s.furniture.push_back({{c.x + sx * (0.5 * c.w - 0.02 - 0.5 * leg), c.y + sy * (0.5 * c.d - 0.02 - 0.5 * leg),
+                              floor + 0.5 * leg_height},
+                             {leg, leg, leg_height},
+                             role});
+}
+
 // A chair at the table's far side and a two-level shelf against the wall, each by its
 // chance; the wall moves back to make room. Nothing drawn when both chances are 0.
 void add_room_furniture(const SyntheticSceneParams& params, SyntheticScene& s, std::mt19937_64& rng) {
@@ -374,24 +401,13 @@ void add_room_furniture(const SyntheticSceneParams& params, SyntheticScene& s, s
   if (chair) {
     const double w = uniform(rng, 0.4, 0.48), d = uniform(rng, 0.4, 0.48);
     const double seat_top = uniform(rng, 0.42, 0.48), back = uniform(rng, 0.35, 0.5);
-    const double thick = 0.03, leg = 0.03;
     // Its seat's front edge under the table when the seat clears the table's underside
     // (and its legs clear the table's), else a gap behind the table.
     const bool fits_under = seat_top + 0.02 < s.floor_depth_m - s.table_thickness_m;
     const double under = fits_under ? uniform(rng, 0.05, 0.2) : -uniform(rng, 0.03, 0.12);
     const double x = side * uniform(rng, 0.0, s.table_half_x_m - 0.11 - 0.5 * w);
     const double y = s.table_half_y_m - under + 0.5 * d;
-    s.furniture.push_back({{x, y, floor + seat_top - 0.5 * thick}, {w, d, thick}, SyntheticBlock::Role::chair});
-    s.furniture.push_back({{x, y + 0.5 * (d - thick), floor + seat_top + 0.5 * back},
-                           {w, thick, back},
-                           SyntheticBlock::Role::chair});
-    const double leg_height = seat_top - thick;
-    for (double sx : {-1.0, 1.0})
-      for (double sy : {-1.0, 1.0})
-        s.furniture.push_back({{x + sx * (0.5 * w - 0.02 - 0.5 * leg), y + sy * (0.5 * d - 0.02 - 0.5 * leg),
-                                floor + 0.5 * leg_height},
-                               {leg, leg, leg_height},
-                               SyntheticBlock::Role::chair});
+    add_chair(s, {x, y, w, d, seat_top, back}, 1, SyntheticBlock::Role::chair);
     s.wall_y_m = std::max(s.wall_y_m, y + 0.5 * d + 0.05);
   }
   if (shelf) {
@@ -534,6 +550,96 @@ void add_shelf_objects(const SyntheticSceneParams& params, SyntheticScene& s, st
       break;
     }
   }
+}
+
+// A place on the floor for a box of half sizes `half` standing there: `ahead` metres in
+// front of the camera (horizontally, within [near, far]) and in its horizontal view, in
+// front of the wall, 3 cm clear of the table, the furniture and every object's
+// footprint, a share of the image at least, and hiding no object's image box (grown by
+// the jitter's reach), so every object is seen as before. None when no place is found.
+std::optional<Vec3> place_extra(const SyntheticScene& s, std::mt19937_64& rng, Vec3 half, double near,
+                                double far) {
+  const double gap = 0.03, min_image_share = 0.03, grow_px = 6, half_view = 0.55;
+  std::vector<PixelRect> object_rects;
+  for (const SyntheticObject& o : s.objects) {
+    const PixelRect r = object_rect(s, o);
+    object_rects.push_back({r.u0 - grow_px, r.v0 - grow_px, r.u1 + grow_px, r.v1 + grow_px});
+  }
+  const PixelRect image{0, 0, s.camera.width - 1.0, s.camera.height - 1.0};
+  auto clear_of = [&](Vec3 c, Vec3 center, Vec3 other_half) {
+    return std::abs(c.x - center.x) > half.x + other_half.x + gap ||
+           std::abs(c.y - center.y) > half.y + other_half.y + gap;
+  };
+  for (int attempt = 0; attempt < kPlacementAttempts; ++attempt) {
+    const double ahead = uniform(rng, near, far);
+    const Vec3 c{s.camera_position.x + uniform(rng, -half_view, half_view) * ahead, s.camera_position.y + ahead,
+                 -s.floor_depth_m + half.z};
+    if (c.y + half.y + gap > s.wall_y_m || !clear_of(c, {0, 0, 0}, {s.table_half_x_m, s.table_half_y_m, 0}))
+      continue;
+    bool clear = true;
+    for (const SyntheticBlock& b : s.furniture) clear = clear && clear_of(c, b.center, b.size_m * 0.5);
+    for (const SyntheticObject& o : s.objects) {
+      const double f = footprint_radius(o);
+      clear = clear && clear_of(c, o.center, {f, f, 0});
+    }
+    const PixelRect r = project_box(s, c, half);
+    if (!clear || overlap_area(r, image) < min_image_share * image.area()) continue;
+    for (const PixelRect& o : object_rects) clear = clear && overlap_area(r, o) == 0;
+    if (clear) return c;
+  }
+  return std::nullopt;
+}
+
+// A chair seen from behind: its back on the camera's side of the seat, 0.9 to 2.5 m away.
+void add_back_chair(SyntheticScene& s, std::mt19937_64& rng) {
+  const double w = uniform(rng, 0.4, 0.48), d = uniform(rng, 0.4, 0.48);
+  const double seat_top = uniform(rng, 0.42, 0.48), back = uniform(rng, 0.35, 0.5);
+  const std::optional<Vec3> c = place_extra(s, rng, {0.5 * w, 0.5 * d, 0.5 * (seat_top + back)}, 0.9, 2.5);
+  if (c) add_chair(s, {c->x, c->y, w, d, seat_top, back}, -1, SyntheticBlock::Role::back_chair);
+}
+
+// A cabinet face-on, its front about 1 m from the camera: a body, two doors standing
+// proud of it with a gap between them, a plinth below them, a bar handle on each.
+void add_cabinet(SyntheticScene& s, std::mt19937_64& rng) {
+  const double w = uniform(rng, 0.6, 1.0), d = uniform(rng, 0.35, 0.5), h = uniform(rng, 0.7, 1.1);
+  const double door = 0.018, handle = 0.022, plinth = 0.08, rim = 0.015, door_gap = 0.006;
+  const double depth = d + door + handle;
+  const std::optional<Vec3> c = place_extra(s, rng, {0.5 * w, 0.5 * depth, 0.5 * h}, 0.8 + 0.5 * depth,
+                                            1.3 + 0.5 * depth);
+  if (!c) return;
+  const double front = c->y - 0.5 * depth, floor = -s.floor_depth_m;
+  const auto role = SyntheticBlock::Role::cabinet;
+  s.furniture.push_back({{c->x, front + handle + door + 0.5 * d, c->z}, {w, d, h}, role});
+  const double door_w = 0.5 * (w - 2 * rim - door_gap), door_h = h - plinth - rim;
+  for (double sx : {-1.0, 1.0}) {
+    const double door_x = c->x + sx * (0.5 * door_gap + 0.5 * door_w);
+    s.furniture.push_back({{door_x, front + handle + 0.5 * door, floor + plinth + 0.5 * door_h},
+                           {door_w, door, door_h},
+                           role});
+    s.furniture.push_back({{c->x + sx * (0.5 * door_gap + 0.04), front + 0.5 * handle, floor + h - rim - 0.15},
+                           {0.015, handle, 0.12},
+                           role});
+  }
+}
+
+// A post from the floor up past the view (a pillar, a lamp's stand), 0.7 to 2.2 m away.
+void add_pole(SyntheticScene& s, std::mt19937_64& rng) {
+  const double side = uniform(rng, 0.06, 0.12), height = 2.5;
+  const std::optional<Vec3> c = place_extra(s, rng, {0.5 * side, 0.5 * side, 0.5 * height}, 0.7, 2.2);
+  if (c) s.furniture.push_back({*c, {side, side, height}, SyntheticBlock::Role::pole});
+}
+
+// The room's extra elements (back_chair_chance, cabinet_chance, pole_chance), drawn last
+// from a stream of their own so the scene's other draws stay; appended to the furniture
+// after every other block (the objects' support indices stay).
+void add_room_extras(const SyntheticSceneParams& params, SyntheticScene& s) {
+  std::mt19937_64 rng(mix_seed(params.seed, 0xe7a5));
+  const bool chair = uniform(rng, 0, 1) < params.back_chair_chance;
+  const bool cabinet = uniform(rng, 0, 1) < params.cabinet_chance;
+  const bool pole = uniform(rng, 0, 1) < params.pole_chance;
+  if (chair) add_back_chair(s, rng);
+  if (cabinet) add_cabinet(s, rng);
+  if (pole) add_pole(s, rng);
 }
 
 std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std::mt19937_64& rng,
@@ -702,6 +808,7 @@ std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std
         const auto grey = static_cast<std::uint8_t>(60 * o.albedo + 15);
         o.color = {grey, grey, static_cast<std::uint8_t>(grey + 5)};
       }
+  add_room_extras(params, s);
 
   if (params.occluder) {
     // Crosses the line of sight to the aim point, a bit under half-way from the camera.
@@ -743,6 +850,9 @@ SyntheticSceneParams room_scene_params(std::uint64_t seed) {
   p.overhang_share = 0.15;
   p.dark_share = 0.15;
   p.shelf_objects = 2;
+  p.back_chair_chance = 1.0 / 3;
+  p.cabinet_chance = 1.0 / 3;
+  p.pole_chance = 0.2;
   return p;
 }
 
@@ -835,6 +945,9 @@ SyntheticFrame render_scene(const SyntheticScene& base, const SensorNoiseParams&
         if (label == kLabelFurniture) return {150, 150, 160};
         if (label == kLabelChair) return {95, 60, 40};
         if (label == kLabelShelf) return {215, 205, 180};
+        if (label == kLabelBackChair) return {70, 70, 80};
+        if (label == kLabelCabinet) return {190, 185, 175};
+        if (label == kLabelPole) return {135, 135, 140};
         return {90, 90, 100};  // floor
       },
       out.frame, out.labels, dark_return(s));

@@ -81,6 +81,14 @@ struct SyntheticSceneParams {
   // in view and clear of the board above; fewer when no place is found. Drawn from a
   // stream of their own, so the rest of the room is the same with or without them.
   int shelf_objects = 0;
+  // What a user's room shows besides, each on a share of the scenes: a chair seen from
+  // behind (its back towards the camera), a cabinet with two doors face-on about 1 m
+  // away, a post from the floor past the top of the view. Drawn last from a stream of
+  // their own (the scene's seed mixed), placed clear of the table, the furniture and the
+  // objects and hiding no object's image box, so the rest of the scene is the same.
+  double back_chair_chance = 0;
+  double cabinet_chance = 0;
+  double pole_chance = 0;
   // Objects standing on the floor beside the furniture (support "floor"), in view and
   // not hidden by the table or the furniture; fewer when no place is found.
   int floor_objects = 0;
@@ -134,7 +142,8 @@ struct SyntheticOccluder {
 struct SyntheticBlock {
   Vec3 center;
   Vec3 size_m;
-  enum class Role { leg, support, tall, chair, shelf } role = Role::leg;
+  // back_chair, cabinet, pole: room_scene_params' extra elements (back_chair_chance...).
+  enum class Role { leg, support, tall, chair, shelf, back_chair, cabinet, pole } role = Role::leg;
 };
 
 struct SyntheticScene {
@@ -162,7 +171,8 @@ SyntheticSceneParams world_scene_params(std::uint64_t seed);
 // to 1.1 m, a camera rolled up to 5 degrees either way, a chair and a two-level shelf
 // in half the rooms each, up to two objects on the floor beside the furniture, a
 // quarter of the table's objects touching another, a sixth across a table edge, a
-// sixth of all objects dark, up to two objects on the shelf's boards.
+// sixth of all objects dark, up to two objects on the shelf's boards; then a chair seen
+// from behind in a third of the rooms, a cabinet face-on in a third, a post in a fifth.
 SyntheticSceneParams room_scene_params(std::uint64_t seed);
 
 // The Kinect sensor model applied while rendering.
@@ -190,6 +200,9 @@ inline constexpr int kLabelLeg = -6;        // table legs
 inline constexpr int kLabelFurniture = -7;  // second supports and tall furniture
 inline constexpr int kLabelChair = -8;      // a chair's seat, back and legs
 inline constexpr int kLabelShelf = -9;      // a shelf's boards and side panels
+inline constexpr int kLabelBackChair = -10; // a chair seen from behind
+inline constexpr int kLabelCabinet = -11;   // a cabinet's body, doors and handles
+inline constexpr int kLabelPole = -12;      // a post from the floor up
 
 struct SyntheticFrame {
   Frame frame;              // organized, camera frame, NaN where the sensor saw nothing
