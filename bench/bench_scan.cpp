@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -315,6 +316,36 @@ const char* background_name(int label) {
   }
 }
 
+// A false prop's footing, for --verbose: its points' heights above its support (lowest
+// and highest, cm) and what the pixel two rows under each column's lowest one shows
+// (the label most columns see there).
+std::string footing_note(const SyntheticFrame& f, const ScanCluster& c) {
+  double lo = 1e9, hi = -1e9;
+  std::map<int, int> lowest, below;
+  const int w = f.frame.width;
+  for (int i : c.pixels) {
+    const PointXYZRGB& p = f.frame.points[static_cast<size_t>(i)];
+    if (!std::isfinite(p.z)) continue;
+    const double h = dot(c.support.normal, Vec3{p.x, p.y, p.z}) + c.support.d;
+    lo = std::min(lo, h), hi = std::max(hi, h);
+    auto [it, fresh] = lowest.try_emplace(i % w, i);
+    if (!fresh) it->second = std::max(it->second, i);
+  }
+  for (const auto& [col, i] : lowest) {
+    const size_t j = static_cast<size_t>(i + 2 * w);
+    if (j < f.labels.size()) ++below[f.labels[j]];
+  }
+  int label = kLabelNothing, n = -1;
+  for (const auto& [l, v] : below)
+    if (v > n) label = l, n = v;
+  char text[96];
+  std::snprintf(text, sizeof text, "h %.1f-%.1f cm, below it %s", 100 * lo, 100 * hi,
+                label >= 0 ? "an object" : label == kLabelTable ? "table" : label == kLabelFloor ? "floor"
+                                                                     : label == kLabelWall ? "wall"
+                                                                                           : background_name(label));
+  return text;
+}
+
 // The room features a generated object has (none in world_scene_params' scenes).
 std::vector<std::string> room_features(const SyntheticScene& s, const SyntheticObject& o) {
   std::vector<std::string> out;
@@ -406,10 +437,10 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
         false_shelves += owner[k2] == kLabelShelf;
         if (owner[k2] <= kLabelBackChair) ++false_extras[owner[k2]];
         if (verbose)
-          std::printf("  seed %d %s: %s reported whole (%s, %d points)\n", seed, o.id.c_str(),
+          std::printf("  seed %d %s: %s reported whole (%s, %d points, on %s, %s)\n", seed, o.id.c_str(),
                       background_name(owner[k2]),
                       o.primitives.empty() ? "unknown" : std::string(shape_name(o.primitives[0].kind)).c_str(),
-                      o.point_count);
+                      o.point_count, o.support_id.c_str(), footing_note(f, scan->clusters[k2]).c_str());
       } else if (f.truth.objects[static_cast<size_t>(owner[k2])].partial) {
         partial_flagged += o.partial;
         slivers += !o.partial;

@@ -552,18 +552,34 @@ void add_shelf_objects(const SyntheticSceneParams& params, SyntheticScene& s, st
   }
 }
 
+// The nearest and farthest camera depth of a table-frame box's corners.
+std::pair<double, double> depth_range(const SyntheticScene& s, Vec3 center, Vec3 half) {
+  double lo = kInf, hi = -kInf;
+  for (int i = 0; i < 8; ++i) {
+    const Vec3 corner{center.x + (i & 1 ? half.x : -half.x), center.y + (i & 2 ? half.y : -half.y),
+                      center.z + (i & 4 ? half.z : -half.z)};
+    const double z = table_to_camera_point(s, corner).z;
+    lo = std::min(lo, z), hi = std::max(hi, z);
+  }
+  return {lo, hi};
+}
+
 // A place on the floor for a box of half sizes `half` standing there: `ahead` metres in
 // front of the camera (horizontally, within [near, far]) and in its horizontal view, in
 // front of the wall, 3 cm clear of the table, the furniture and every object's
-// footprint, a share of the image at least, and hiding no object's image box (grown by
-// the jitter's reach), so every object is seen as before. None when no place is found.
+// footprint, a share of the image at least, and hiding no object: where its image box
+// meets an object's (grown by the jitter's reach) it lies wholly behind that object, so
+// every object is seen as before. None when no place is found.
 std::optional<Vec3> place_extra(const SyntheticScene& s, std::mt19937_64& rng, Vec3 half, double near,
                                 double far) {
   const double gap = 0.03, min_image_share = 0.03, grow_px = 6, half_view = 0.55;
   std::vector<PixelRect> object_rects;
+  std::vector<double> object_far;
   for (const SyntheticObject& o : s.objects) {
     const PixelRect r = object_rect(s, o);
+    const double f = footprint_radius(o);
     object_rects.push_back({r.u0 - grow_px, r.v0 - grow_px, r.u1 + grow_px, r.v1 + grow_px});
+    object_far.push_back(depth_range(s, o.center, {f, f, half_height(o)}).second);
   }
   const PixelRect image{0, 0, s.camera.width - 1.0, s.camera.height - 1.0};
   auto clear_of = [&](Vec3 c, Vec3 center, Vec3 other_half) {
@@ -584,7 +600,9 @@ std::optional<Vec3> place_extra(const SyntheticScene& s, std::mt19937_64& rng, V
     }
     const PixelRect r = project_box(s, c, half);
     if (!clear || overlap_area(r, image) < min_image_share * image.area()) continue;
-    for (const PixelRect& o : object_rects) clear = clear && overlap_area(r, o) == 0;
+    const double near_z = depth_range(s, c, half).first;
+    for (std::size_t k = 0; k < object_rects.size(); ++k)
+      clear = clear && (overlap_area(r, object_rects[k]) == 0 || near_z > object_far[k] + gap);
     if (clear) return c;
   }
   return std::nullopt;
@@ -598,14 +616,14 @@ void add_back_chair(SyntheticScene& s, std::mt19937_64& rng) {
   if (c) add_chair(s, {c->x, c->y, w, d, seat_top, back}, -1, SyntheticBlock::Role::back_chair);
 }
 
-// A cabinet face-on, its front about 1 m from the camera: a body, two doors standing
+// A cabinet face-on, its front 0.7 to 1.5 m ahead of the camera: a body, two doors standing
 // proud of it with a gap between them, a plinth below them, a bar handle on each.
 void add_cabinet(SyntheticScene& s, std::mt19937_64& rng) {
   const double w = uniform(rng, 0.6, 1.0), d = uniform(rng, 0.35, 0.5), h = uniform(rng, 0.7, 1.1);
   const double door = 0.018, handle = 0.022, plinth = 0.08, rim = 0.015, door_gap = 0.006;
   const double depth = d + door + handle;
-  const std::optional<Vec3> c = place_extra(s, rng, {0.5 * w, 0.5 * depth, 0.5 * h}, 0.8 + 0.5 * depth,
-                                            1.3 + 0.5 * depth);
+  const std::optional<Vec3> c = place_extra(s, rng, {0.5 * w, 0.5 * depth, 0.5 * h}, 0.7 + 0.5 * depth,
+                                            1.5 + 0.5 * depth);
   if (!c) return;
   const double front = c->y - 0.5 * depth, floor = -s.floor_depth_m;
   const auto role = SyntheticBlock::Role::cabinet;
@@ -851,7 +869,7 @@ SyntheticSceneParams room_scene_params(std::uint64_t seed) {
   p.dark_share = 0.15;
   p.shelf_objects = 2;
   p.back_chair_chance = 1.0 / 3;
-  p.cabinet_chance = 1.0 / 3;
+  p.cabinet_chance = 0.5;
   p.pole_chance = 0.2;
   return p;
 }

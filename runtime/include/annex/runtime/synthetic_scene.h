@@ -172,7 +172,7 @@ SyntheticSceneParams world_scene_params(std::uint64_t seed);
 // in half the rooms each, up to two objects on the floor beside the furniture, a
 // quarter of the table's objects touching another, a sixth across a table edge, a
 // sixth of all objects dark, up to two objects on the shelf's boards; then a chair seen
-// from behind in a third of the rooms, a cabinet face-on in a third, a post in a fifth.
+// from behind in a third of the rooms, a cabinet face-on in half, a post in a fifth.
 SyntheticSceneParams room_scene_params(std::uint64_t seed);
 
 // The Kinect sensor model applied while rendering.
