@@ -61,17 +61,22 @@ bool top_cut_by_band(const Frame& f, const std::vector<int>& grid, int step, Vec
   return static_cast<double>(cut) >= params.cut_top_share * static_cast<double>(top.size());
 }
 
-bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
-                  const ToleranceAt& tolerance) {
-  const std::map<int, int> ends = end_per_column(f, grid, true);
+namespace {
+
+// Whether something nearer hides the cluster's top (`top`) or foot: in more than half of
+// its grid columns the first valid pixel one to three grid rows beyond its end pixel is
+// nearer to the camera than that pixel by more than the tolerance.
+bool end_hidden(const Frame& f, const std::vector<int>& grid, int step, const ToleranceAt& tolerance, bool top) {
+  const std::map<int, int> ends = end_per_column(f, grid, top);
   if (ends.size() < 3) return false;
-  const int row = step * f.width;
+  const int row = (top ? -step : step) * f.width;
+  const int count = static_cast<int>(f.points.size());
   size_t hidden = 0;
   for (const auto& [col, i] : ends) {
     const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
     for (int r = 1; r <= 3; ++r) {
-      const int j = i - r * row;
-      if (j < 0) break;
+      const int j = i + r * row;
+      if (j < 0 || j >= count) break;
       const PointXYZRGB& q = f.points[static_cast<size_t>(j)];
       if (!has_depth(q)) continue;
       hidden += q.z < p.z - tolerance(p.z);
@@ -79,6 +84,19 @@ bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
     }
   }
   return 2 * hidden > ends.size();
+}
+
+}  // namespace
+
+bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
+                  const ToleranceAt& tolerance) {
+  return end_hidden(f, grid, step, tolerance, true);
+}
+
+bool foot_hidden_high(const Frame& f, const std::vector<int>& grid, int step, double bottom_h,
+                      const ScanParams& params, const ToleranceAt& tolerance) {
+  return params.hidden_foot_min_height_m > 0 && bottom_h > params.hidden_foot_min_height_m &&
+         end_hidden(f, grid, step, tolerance, false);
 }
 
 bool upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up, const ScanParams& params) {

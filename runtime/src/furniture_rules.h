@@ -38,6 +38,16 @@ bool top_cut_by_band(const Frame& f, const std::vector<int>& grid, int step, Vec
 bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
                   const ToleranceAt& tolerance);
 
+// Whether the cluster's lowest point (`bottom_h` above its support) lies more than
+// params.hidden_foot_min_height_m above the support and something nearer hides its foot:
+// in more than half of its grid columns the first valid pixel one to three grid rows
+// below its lowest pixel is nearer than that pixel by more than the tolerance. No one
+// sees what holds it up there, at furniture height: a chair's seat behind its own back
+// seen from behind, a seat or board behind the table's top. Flagged partial, as a
+// cluster whose top is hidden is.
+bool foot_hidden_high(const Frame& f, const std::vector<int>& grid, int step, double bottom_h,
+                      const ScanParams& params, const ToleranceAt& tolerance);
+
 // Whether the cluster's foot is not seen on its support: in more than half of the grid
 // columns that show anything below its lowest pixel, the first valid pixel one to three
 // grid rows below is no point of its support's surface region (`surface_of`: the

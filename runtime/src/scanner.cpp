@@ -2058,11 +2058,14 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     // one sees where it ends either, so it is flagged partial too.
     const bool top_hidden = over >= 0 || (params.partial_when_top_hidden &&
                                           top_occluded(f, grid, stride, tolerance));
+    // Its foot hidden at furniture height: no one sees what holds it up (a seat behind
+    // its back).
+    const bool foot_hidden = foot_hidden_high(f, grid, stride, bottom_h, params, tolerance);
     // One upright flat face whose foot is not on its support (a chair's back rising
     // behind the table, a cabinet's side): neither its depth nor its foot is seen.
     const bool panel = upright_panel(f, grid, plane.n, params) &&
                        foot_unseen(f, grid, stride, surface_of, k);
-    accepted.push_back({&grid, k, min_points, top_hidden || panel});
+    accepted.push_back({&grid, k, min_points, top_hidden || panel || foot_hidden});
   }
   // Touching objects apart at the creases and depth steps between them (the parts are
   // kept in cluster order). The regions grow with the tolerance the clustering used at

@@ -128,6 +128,13 @@ struct ScanParams {
   // ends (the wall under a shelf's board is no prop). false: only a nearer support's
   // surface hides a top (the rule before session 8).
   bool partial_when_top_hidden = true;
+  // A cluster whose lowest point lies more than this above its support, its foot hidden
+  // by something nearer in most of its columns, is flagged partial too: no one sees what
+  // holds it up at furniture height (a chair's seat behind its back seen from behind, a
+  // seat behind the table's top). 0.3: furniture's height (furniture_min_height_m); a
+  // prop behind a nearer one shows its upper part from lower down (furniture_rules.h,
+  // foot_hidden_high). 0: off.
+  double hidden_foot_min_height_m = 0.3;
   // A cluster that is one upright flat face, spread along its normal by at most this
   // many times the Kinect's axial noise at its depth, whose lower end something nearer
   // hides, is flagged partial: a chair's back or a cabinet's side rising behind the
