@@ -36,6 +36,9 @@ SyntheticSceneParams only(std::uint64_t seed, const std::string& feature) {
   p.touching_share = feature == "touching" ? 1 : 0;
   p.overhang_share = feature == "overhang" ? 1 : 0;
   p.dark_share = feature == "dark" ? 1 : 0;
+  p.back_chair_chance = feature == "back chair" ? 1 : 0;
+  p.cabinet_chance = feature == "cabinet" ? 1 : 0;
+  p.pole_chance = feature == "pole" ? 1 : 0;
   return p;
 }
 
@@ -192,6 +195,63 @@ TEST(SyntheticRooms, ShelfObjectsLeaveTheRestOfTheRoomAsItWas) {
   EXPECT_GE(added, 10);
 }
 
+// The room's extras (a chair seen from behind, a cabinet face-on, a post) come from a
+// stream of their own and hide no object: every object and every other block is as it
+// was, and each object shows the same pixels.
+TEST(SyntheticRooms, RoomExtrasLeaveTheRestOfTheRoomAsItWas) {
+  std::map<int, int> shown;
+  for (std::uint64_t seed = 6001; seed <= 6020; ++seed) {
+    SyntheticSceneParams p = room_scene_params(seed);
+    const SyntheticScene with = room(p);
+    p.back_chair_chance = p.cabinet_chance = p.pole_chance = 0;
+    const SyntheticScene without = room(p);
+    ASSERT_EQ(with.objects.size(), without.objects.size()) << "seed " << seed;
+    ASSERT_GE(with.furniture.size(), without.furniture.size());
+    for (std::size_t k = 0; k < without.furniture.size(); ++k)
+      EXPECT_EQ(with.furniture[k].center.x, without.furniture[k].center.x) << "seed " << seed;
+    const SyntheticFrame fw = render_scene(with, exact()), fo = render_scene(without, exact());
+    for (std::size_t i = 0; i < with.objects.size(); ++i) {
+      EXPECT_EQ(with.objects[i].center.x, without.objects[i].center.x) << "seed " << seed;
+      EXPECT_EQ(count_label(fw, static_cast<int>(i)), count_label(fo, static_cast<int>(i))) << "seed " << seed;
+    }
+    for (int label : {kLabelBackChair, kLabelCabinet, kLabelPole}) shown[label] += count_label(fw, label) > 0;
+  }
+  // A cabinet about a metre away finds a place clear of the table in fewer rooms (about
+  // one in eight): ABackChairTurnsItsBackAndACabinetItsDoorsToTheCamera forces it.
+  EXPECT_GE(shown[kLabelBackChair], 2);
+  EXPECT_GE(shown[kLabelPole], 2);
+}
+
+TEST(SyntheticRooms, ABackChairTurnsItsBackAndACabinetItsDoorsToTheCamera) {
+  int chairs = 0, cabinets = 0;
+  for (std::uint64_t seed = 6001; seed <= 6010; ++seed) {
+    const SyntheticScene c = room(only(seed, "back chair"));
+    std::vector<SyntheticBlock> chair;
+    for (const SyntheticBlock& b : c.furniture)
+      if (b.role == SyntheticBlock::Role::back_chair) chair.push_back(b);
+    if (!chair.empty()) {
+      ASSERT_EQ(chair.size(), 6u) << "seat, back, four legs; seed " << seed;
+      EXPECT_LT(chair[1].center.y, chair[0].center.y) << "its back on the camera's side; seed " << seed;
+      ++chairs;
+    }
+    const SyntheticScene k = room(only(seed, "cabinet"));
+    std::vector<SyntheticBlock> cabinet;
+    for (const SyntheticBlock& b : k.furniture)
+      if (b.role == SyntheticBlock::Role::cabinet) cabinet.push_back(b);
+    if (!cabinet.empty()) {
+      ASSERT_EQ(cabinet.size(), 5u) << "body, two doors, two handles; seed " << seed;
+      const double front = cabinet[0].center.y - 0.5 * cabinet[0].size_m.y;
+      EXPECT_NEAR(cabinet[1].center.y + 0.5 * cabinet[1].size_m.y, front, 1e-9) << "a door on its front";
+      const double ahead = front - k.camera_position.y;
+      EXPECT_GT(ahead, 0.65);
+      EXPECT_LT(ahead, 1.55);
+      ++cabinets;
+    }
+  }
+  EXPECT_GE(chairs, 3);
+  EXPECT_GE(cabinets, 2);
+}
+
 TEST(SyntheticRooms, FloorObjectsStandOnTheFloorBesideTheFurnitureInView) {
   int on_floor = 0;
   for (std::uint64_t seed = 6001; seed <= 6008; ++seed) {
@@ -298,7 +358,7 @@ TEST(SyntheticRooms, DarkObjectsLoseDepthWhereTheReturnIsWeakAndNothingElseChang
 }
 
 TEST(SyntheticRooms, FeatureSharesOutOfRangeAreErrors) {
-  for (int which = 0; which < 7; ++which) {
+  for (int which = 0; which < 10; ++which) {
     SyntheticSceneParams p = room_scene_params(6001);
     if (which == 0) p.chair_chance = 1.5;
     if (which == 1) p.shelf_chance = -0.1;
@@ -307,6 +367,9 @@ TEST(SyntheticRooms, FeatureSharesOutOfRangeAreErrors) {
     if (which == 4) p.overhang_share = -1;
     if (which == 5) p.dark_share = 1.01;
     if (which == 6) p.shelf_objects = -1;
+    if (which == 7) p.back_chair_chance = 1.5;
+    if (which == 8) p.cabinet_chance = -0.5;
+    if (which == 9) p.pole_chance = 2;
     EXPECT_FALSE(generate_scene(p).ok()) << which;
   }
 }
