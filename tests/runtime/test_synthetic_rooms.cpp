@@ -222,22 +222,26 @@ TEST(SyntheticRooms, RoomExtrasLeaveTheRestOfTheRoomAsItWas) {
   EXPECT_GE(shown[kLabelPole], 2);
 }
 
+// The scene's furniture blocks of one role, in order.
+std::vector<SyntheticBlock> blocks_of(const SyntheticScene& s, SyntheticBlock::Role role) {
+  std::vector<SyntheticBlock> out;
+  for (const SyntheticBlock& b : s.furniture)
+    if (b.role == role) out.push_back(b);
+  return out;
+}
+
 TEST(SyntheticRooms, ABackChairTurnsItsBackAndACabinetItsDoorsToTheCamera) {
   int chairs = 0, cabinets = 0;
   for (std::uint64_t seed = 6001; seed <= 6010; ++seed) {
-    const SyntheticScene c = room(only(seed, "back chair"));
-    std::vector<SyntheticBlock> chair;
-    for (const SyntheticBlock& b : c.furniture)
-      if (b.role == SyntheticBlock::Role::back_chair) chair.push_back(b);
+    const std::vector<SyntheticBlock> chair =
+        blocks_of(room(only(seed, "back chair")), SyntheticBlock::Role::back_chair);
     if (!chair.empty()) {
       ASSERT_EQ(chair.size(), 6u) << "seat, back, four legs; seed " << seed;
       EXPECT_LT(chair[1].center.y, chair[0].center.y) << "its back on the camera's side; seed " << seed;
       ++chairs;
     }
     const SyntheticScene k = room(only(seed, "cabinet"));
-    std::vector<SyntheticBlock> cabinet;
-    for (const SyntheticBlock& b : k.furniture)
-      if (b.role == SyntheticBlock::Role::cabinet) cabinet.push_back(b);
+    const std::vector<SyntheticBlock> cabinet = blocks_of(k, SyntheticBlock::Role::cabinet);
     if (!cabinet.empty()) {
       ASSERT_EQ(cabinet.size(), 5u) << "body, two doors, two handles; seed " << seed;
       const double front = cabinet[0].center.y - 0.5 * cabinet[0].size_m.y;
