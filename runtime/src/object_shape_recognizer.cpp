@@ -803,6 +803,21 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
   return c;
 }
 
+// The mean of points in plane coordinates (a cap's centre of mass).
+Local mean_local(const std::vector<Local>& p) {
+  Local m{0, 0, 0};
+  for (const Local& q : p) {
+    m.a += q.a;
+    m.b += q.b;
+    m.h += q.h;
+  }
+  const double n = static_cast<double>(std::max<size_t>(p.size(), 1));
+  m.a /= n;
+  m.b /= n;
+  m.h /= n;
+  return m;
+}
+
 Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
   Candidate c;
   c.model = Model::sphere;
@@ -830,11 +845,22 @@ Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
   c.hc = x[2];
   c.r0 = std::abs(x[3]);
   // A resting sphere's centre is one radius above the plane.
-  c.valid = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m &&
-            std::abs(c.hc - c.r0) < std::max(0.012, 0.2 * c.r0);
-  if (!c.valid) return c;
-  // Then it is fitted as resting: three parameters, its centre one radius up.
+  const bool resting = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m &&
+                       std::abs(c.hc - c.r0) < std::max(0.012, 0.2 * c.r0);
+  // Then it is fitted as resting: three parameters, its centre one radius up. A cap seen
+  // alone (a dark ball lit only where it faces the camera) leaves the free fit's radius
+  // and height ill-determined, while its top, seen from above, is the ball's: the
+  // resting fit then starts from a radius of half the top, its centre that far beyond
+  // the cap from the camera, and stands when its diameter keeps to the top.
   std::array<double, 3> y{c.ca, c.cb, (c.hc + c.r0) / 2};
+  if (!resting) {
+    if (!std::isfinite(c.hc) || s.top <= 0) return c;
+    const Local m = mean_local(s.p);
+    const double away = len2(m.a - s.eye.a, m.b - s.eye.b);
+    const double r = s.top / 2;
+    y = {m.a + (m.a - s.eye.a) / std::max(away, 1e-6) * r * params.sphere_cap_depth_share,
+         m.b + (m.b - s.eye.b) / std::max(away, 1e-6) * r * params.sphere_cap_depth_share, r};
+  }
   refine_analytic<3>(y, n, s.tol,
                      [&](const std::array<double, 3>& p, int i, shape_residuals::Gradient<3>* g) {
                        return shape_residuals::resting_sphere(p, s.p[i].a, s.p[i].b, s.p[i].h, g);
@@ -842,7 +868,8 @@ Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
   c.ca = y[0];
   c.cb = y[1];
   c.hc = c.r0 = std::abs(y[2]);
-  c.valid = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m;
+  c.valid = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m &&
+            (resting || std::abs(2 * c.r0 - s.top) < std::max(0.012, 0.2 * c.r0));
   return c;
 }
 
@@ -1605,7 +1632,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   const Candidate cyl = fit_cylinder(s, all, 0.0, params, rng);
   cands.push_back(cyl);
   cands.push_back(fit_cone(s, all, cyl, params));
-  if (!box.valid || (s.top > 0.5 * width && s.top < 1.6 * width))
+  if (!box.valid || (s.top > 0.5 * width && s.top < params.sphere_max_top_over_width * width))
     cands.push_back(fit_sphere(s, params));
   if (!box.valid || s.top < 0.55 * width) cands.push_back(fit_torus(s, cyl, params));
   cands.push_back(box);
