@@ -803,6 +803,32 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
   return c;
 }
 
+// The curvature a sphere's points show across the view and along it (up the image):
+// the depth along the ray to its centre fitted as a quadric of the two offsets across
+// the ray, z = k0 + k1 x + k2 y + k3 x^2 + k4 y^2 + k5 x y. A sphere's near side has
+// k3 = k4 = 1 / (2 r); an upright cylinder's or a cone's side has none along its axis, a
+// box's face none at all. Returns {k3, k4}; zeros when the quadric is not determined.
+std::array<double, 2> view_curvature(const Samples& s, const Candidate& c) {
+  const Eigen::Vector3d centre(c.ca, c.cb, c.hc), eye(s.eye.a, s.eye.b, s.eye.h);
+  const Eigen::Vector3d v = (centre - eye).normalized();
+  const Eigen::Vector3d x = v.cross(Eigen::Vector3d(0, 0, 1)).normalized(), y = x.cross(v);
+  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> atb = Eigen::Matrix<double, 6, 1>::Zero();
+  for (const Local& p : s.p) {
+    const Eigen::Vector3d q = Eigen::Vector3d(p.a, p.b, p.h) - centre;
+    const double px = q.dot(x), py = q.dot(y);
+    Eigen::Matrix<double, 6, 1> row;
+    row << 1, px, py, px * px, py * py, px * py;
+    ata += row * row.transpose();
+    atb += row * q.dot(v);
+  }
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> solve(ata);
+  if (solve.info() != Eigen::Success) return {0, 0};
+  const Eigen::Matrix<double, 6, 1> k = solve.solve(atb);
+  if (!k.allFinite()) return {0, 0};
+  return {k[3], k[4]};
+}
+
 // The mean of points in plane coordinates (a cap's centre of mass).
 Local mean_local(const std::vector<Local>& p) {
   Local m{0, 0, 0};
@@ -870,6 +896,14 @@ Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
   c.hc = c.r0 = std::abs(y[2]);
   c.valid = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m &&
             (resting || std::abs(2 * c.r0 - s.top) < std::max(0.012, 0.2 * c.r0));
+  // A sphere shows its curvature both across the view and along it: a strip of a
+  // cylinder's or a cone's side curves across only, a box's edge along only
+  // (view_curvature).
+  if (c.valid) {
+    const auto [across, along] = view_curvature(s, c);
+    const double least = params.sphere_min_curvature_share / (2 * c.r0);
+    c.valid = across >= least && along >= least;
+  }
   return c;
 }
 

@@ -104,6 +104,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"shape_side_shape_penalty", Kind::unit_share, &p.shape.side_shape_penalty},
       {"shape_sphere_cap_depth_share", Kind::non_negative, &p.shape.sphere_cap_depth_share},
       {"shape_sphere_max_top_over_width", Kind::positive, &p.shape.sphere_max_top_over_width},
+      {"shape_sphere_min_curvature_share", Kind::non_negative, &p.shape.sphere_min_curvature_share},
       {"shape_max_fit_points", Kind::whole, nullptr, &p.shape.max_fit_points, 50},
       {"shape_box_azimuth_doubt_m", Kind::non_negative, &p.shape.box_azimuth_doubt_m},
       {"shape_refine_sample_points", Kind::whole, nullptr, &p.shape.refine_sample_points, 0},

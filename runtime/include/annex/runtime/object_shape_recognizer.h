@@ -45,6 +45,11 @@ struct ShapeRecognizerParams {
   // ball is as tall as it is wide, but a dark one returns depth only where it faces the
   // camera, a cap some 0.6 of its diameter wide under its full height.
   double sphere_max_top_over_width = 1.8;
+  // A sphere must show, across the view and along it, at least this share of the
+  // curvature 1 / (2 r) of its near side (a cylinder's or a cone's side shows none along
+  // its axis, a box's edge none across it): few noisy points favour the sphere's three
+  // parameters by the information criterion whatever their shape.
+  double sphere_min_curvature_share = 0.25;
   // A cylinder in any orientation needs its side normals spread round its axis: the
   // |mean of e^(4i psi)| of their angles below this (two faces of a box give ~1).
   double max_round_facetedness = 0.5;
