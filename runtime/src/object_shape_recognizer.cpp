@@ -803,6 +803,47 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
   return c;
 }
 
+// The curvature a sphere's points show across the view and along it (up the image):
+// the depth along the ray to its centre fitted as a quadric of the two offsets across
+// the ray, z = k0 + k1 x + k2 y + k3 x^2 + k4 y^2 + k5 x y. A sphere's near side has
+// k3 = k4 = 1 / (2 r); an upright cylinder's or a cone's side has none along its axis, a
+// box's face none at all. Returns {k3, k4}; zeros when the quadric is not determined.
+std::array<double, 2> view_curvature(const Samples& s, const Candidate& c) {
+  const Eigen::Vector3d centre(c.ca, c.cb, c.hc), eye(s.eye.a, s.eye.b, s.eye.h);
+  const Eigen::Vector3d v = (centre - eye).normalized();
+  const Eigen::Vector3d x = v.cross(Eigen::Vector3d(0, 0, 1)).normalized(), y = x.cross(v);
+  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> atb = Eigen::Matrix<double, 6, 1>::Zero();
+  for (const Local& p : s.p) {
+    const Eigen::Vector3d q = Eigen::Vector3d(p.a, p.b, p.h) - centre;
+    const double px = q.dot(x), py = q.dot(y);
+    Eigen::Matrix<double, 6, 1> row;
+    row << 1, px, py, px * px, py * py, px * py;
+    ata += row * row.transpose();
+    atb += row * q.dot(v);
+  }
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> solve(ata);
+  if (solve.info() != Eigen::Success) return {0, 0};
+  const Eigen::Matrix<double, 6, 1> k = solve.solve(atb);
+  if (!k.allFinite()) return {0, 0};
+  return {k[3], k[4]};
+}
+
+// The mean of points in plane coordinates (a cap's centre of mass).
+Local mean_local(const std::vector<Local>& p) {
+  Local m{0, 0, 0};
+  for (const Local& q : p) {
+    m.a += q.a;
+    m.b += q.b;
+    m.h += q.h;
+  }
+  const double n = static_cast<double>(std::max<size_t>(p.size(), 1));
+  m.a /= n;
+  m.b /= n;
+  m.h /= n;
+  return m;
+}
+
 Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
   Candidate c;
   c.model = Model::sphere;
@@ -830,11 +871,22 @@ Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
   c.hc = x[2];
   c.r0 = std::abs(x[3]);
   // A resting sphere's centre is one radius above the plane.
-  c.valid = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m &&
-            std::abs(c.hc - c.r0) < std::max(0.012, 0.2 * c.r0);
-  if (!c.valid) return c;
-  // Then it is fitted as resting: three parameters, its centre one radius up.
+  const bool resting = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m &&
+                       std::abs(c.hc - c.r0) < std::max(0.012, 0.2 * c.r0);
+  // Then it is fitted as resting: three parameters, its centre one radius up. A cap seen
+  // alone (a dark ball lit only where it faces the camera) leaves the free fit's radius
+  // and height ill-determined, while its top, seen from above, is the ball's: the
+  // resting fit then starts from a radius of half the top, its centre that far beyond
+  // the cap from the camera, and stands when its diameter keeps to the top.
   std::array<double, 3> y{c.ca, c.cb, (c.hc + c.r0) / 2};
+  if (!resting) {
+    if (!std::isfinite(c.hc) || s.top <= 0) return c;
+    const Local m = mean_local(s.p);
+    const double away = len2(m.a - s.eye.a, m.b - s.eye.b);
+    const double r = s.top / 2;
+    y = {m.a + (m.a - s.eye.a) / std::max(away, 1e-6) * r * params.sphere_cap_depth_share,
+         m.b + (m.b - s.eye.b) / std::max(away, 1e-6) * r * params.sphere_cap_depth_share, r};
+  }
   refine_analytic<3>(y, n, s.tol,
                      [&](const std::array<double, 3>& p, int i, shape_residuals::Gradient<3>* g) {
                        return shape_residuals::resting_sphere(p, s.p[i].a, s.p[i].b, s.p[i].h, g);
@@ -842,7 +894,16 @@ Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
   c.ca = y[0];
   c.cb = y[1];
   c.hc = c.r0 = std::abs(y[2]);
-  c.valid = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m;
+  c.valid = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m &&
+            (resting || std::abs(2 * c.r0 - s.top) < std::max(0.012, 0.2 * c.r0));
+  // A sphere shows its curvature both across the view and along it: a strip of a
+  // cylinder's or a cone's side curves across only, a box's edge along only
+  // (view_curvature).
+  if (c.valid) {
+    const auto [across, along] = view_curvature(s, c);
+    const double least = params.sphere_min_curvature_share / (2 * c.r0);
+    c.valid = across >= least && along >= least;
+  }
   return c;
 }
 
@@ -1605,7 +1666,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   const Candidate cyl = fit_cylinder(s, all, 0.0, params, rng);
   cands.push_back(cyl);
   cands.push_back(fit_cone(s, all, cyl, params));
-  if (!box.valid || (s.top > 0.5 * width && s.top < 1.6 * width))
+  if (!box.valid || (s.top > 0.5 * width && s.top < params.sphere_max_top_over_width * width))
     cands.push_back(fit_sphere(s, params));
   if (!box.valid || s.top < 0.55 * width) cands.push_back(fit_torus(s, cyl, params));
   cands.push_back(box);

@@ -38,6 +38,18 @@ struct ShapeRecognizerParams {
   // Score penalty for a round side (cylinder, cone) when the side normals bunch into
   // flat faces, and for a box when they spread around like a round side.
   double side_shape_penalty = 0.1;
+  // A ball's cap seen alone: the resting sphere's fit starts with its centre this share
+  // of the radius (half the top) beyond the cap's mean point, away from the camera.
+  double sphere_cap_depth_share = 0.8;
+  // A sphere is tried when the top is at most this many times the footprint's width: a
+  // ball is as tall as it is wide, but a dark one returns depth only where it faces the
+  // camera, a cap some 0.6 of its diameter wide under its full height.
+  double sphere_max_top_over_width = 1.8;
+  // A sphere must show, across the view and along it, at least this share of the
+  // curvature 1 / (2 r) of its near side (a cylinder's or a cone's side shows none along
+  // its axis, a box's edge none across it): few noisy points favour the sphere's three
+  // parameters by the information criterion whatever their shape.
+  double sphere_min_curvature_share = 0.25;
   // A cylinder in any orientation needs its side normals spread round its axis: the
   // |mean of e^(4i psi)| of their angles below this (two faces of a box give ~1).
   double max_round_facetedness = 0.5;
