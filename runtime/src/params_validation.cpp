@@ -77,8 +77,10 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.non_negative("part_margin_m", p.part_margin_m);
   c.non_negative("overhang_margin_m", p.overhang_margin_m);
   c.range("part_share", p.part_share, 0, 1);
+  c.range("part_fit_slack", p.part_fit_slack, 0, 1);
   c.range("touching_max_coverage", p.touching_max_coverage, 0, 1);
   c.range("touching_waist_share", p.touching_waist_share, 0, 1);
+  c.positive("touching_min_part_size_m", p.touching_min_part_size_m);
   c.range("min_support_seen_share", p.min_support_seen_share, 0, 1);
   c.non_negative("support_gap_reach_m", p.support_gap_reach_m);
   c.positive("shape.min_tolerance_m", p.shape.min_tolerance_m);

@@ -875,19 +875,29 @@ bool mostly_inside(const ShapeFit& solid, const std::vector<Vec3>& pts, double m
   return static_cast<double>(inside) >= need;
 }
 
+// An object that took parts (merge_parts): its index after the merge, itself before it,
+// and the parts it took.
+struct GrownObject {
+  size_t index = 0;
+  ScanCluster before;
+  std::vector<ScanCluster> parts;
+};
+
 // Two objects on a support cannot interpenetrate: a cluster lying mostly inside a
 // bigger object's fitted solid is a part of it that a depth edge cut off (a bottle's
 // handle behind its rim). Each such part joins the biggest object that contains it
-// (its pixels, and `label`, the owner's) and is removed; returns the grown objects'
-// indices, biggest first, which the caller smooths and fits again. An object whose
-// extent no one sees (`unseen`: cut by the image border, or hidden in half) holds no
-// part: its fitted primitive spans what is seen of it, not its solid (a shelf's side
-// and board edge cut by the border, fitted as one box, span the board and what stands
-// on it). What lies in such an object and in no other is kept apart, its pixels marked
-// in `apart` (a piece of the cut object, or an object of its own: no one can tell).
-std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, std::vector<int>& label,
-                                const std::function<bool(const ScanCluster&)>& unseen,
-                                std::vector<char>& apart) {
+// (its pixels, and `label`, the owner's) and is removed; returns the grown objects
+// (each as it was and its parts), biggest first, which the caller smooths and fits
+// again. An object whose extent no one sees (`unseen`: cut by the image border, or
+// hidden in half) holds no part: its fitted primitive spans what is seen of it, not its
+// solid (a shelf's side and board edge cut by the border, fitted as one box, span the
+// board and what stands on it). What lies in such an object and in no other is kept
+// apart, its pixels marked in `apart` (a piece of the cut object, or an object of its
+// own: no one can tell).
+std::vector<GrownObject> merge_parts(const ScanParams& params, ScanResult& result,
+                                     std::vector<int>& label,
+                                     const std::function<bool(const ScanCluster&)>& unseen,
+                                     std::vector<char>& apart) {
   const size_t n = result.clusters.size();
   if (n < 2 || params.part_margin_m <= 0) return {};
   std::vector<size_t> by_size(n);
@@ -905,23 +915,35 @@ std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, st
     for (size_t j = 0; j < k; ++j) {
       const ScanCluster& big = result.clusters[by_size[j]];
       if (big.shape.primitives.empty() || !(big.support == part.support)) continue;
-      // 1: holds the part; 2: would, but its extent is unseen.
       if (mostly_inside(big.shape.primitives.front(), part.points, params.part_margin_m, params.part_share))
-        holds[k][j] = params.unseen_hold_no_parts && unseen(big) ? 2 : 1;
+        holds[k][j] = 1;
     }
   });
+  // Whether an object that would hold a part has its extent unseen (it then holds
+  // none): asked once per object, not once per part it would hold.
+  std::vector<char> unseen_big(n, 0);
+  for (size_t j = 0; j < n && params.unseen_hold_no_parts; ++j)
+    for (size_t k = j + 1; k < n; ++k)
+      if (holds[k][j]) {
+        unseen_big[j] = unseen(result.clusters[by_size[j]]);
+        break;
+      }
   std::vector<int> owner(n, -1);
   for (size_t k = 1; k < n; ++k) {
     bool in_unseen = false;
     for (size_t j = 0; j < k && owner[by_size[k]] < 0; ++j) {
       if (owner[by_size[j]] >= 0) continue;
-      if (holds[k][j] == 1) owner[by_size[k]] = static_cast<int>(by_size[j]);
-      in_unseen = in_unseen || holds[k][j] == 2;
+      if (holds[k][j] && !unseen_big[j]) owner[by_size[k]] = static_cast<int>(by_size[j]);
+      in_unseen = in_unseen || (holds[k][j] && unseen_big[j]);
     }
     if (owner[by_size[k]] < 0 && in_unseen)
       for (int i : result.clusters[by_size[k]].pixels) apart[static_cast<size_t>(i)] = 1;
   }
-  std::vector<char> grown(n, 0);
+  // Each owner as it was, then its parts (kept to be given back: restore_spoiled).
+  std::vector<GrownObject> grown_of(n);
+  for (size_t c = 0; c < n; ++c)
+    if (owner[c] >= 0 && grown_of[owner[c]].parts.empty())
+      grown_of[owner[c]].before = result.clusters[owner[c]];
   for (size_t c = 0; c < n; ++c) {
     if (owner[c] < 0) continue;
     ScanCluster& big = result.clusters[owner[c]];
@@ -929,21 +951,56 @@ std::vector<size_t> merge_parts(const ScanParams& params, ScanResult& result, st
     const auto middle = big.pixels.insert(big.pixels.end(), result.clusters[c].pixels.begin(),
                                           result.clusters[c].pixels.end());
     std::inplace_merge(big.pixels.begin(), middle, big.pixels.end());  // both sorted
-    grown[owner[c]] = 1;
+    grown_of[owner[c]].parts.push_back(std::move(result.clusters[c]));
   }
   // The objects kept, and the grown ones among them by their new index.
   std::vector<ScanCluster> kept;
-  std::vector<size_t> refit_sizes;
-  for (size_t c = 0; c < n; ++c)
-    if (owner[c] < 0) {
-      refit_sizes.push_back(grown[c] ? result.clusters[c].pixels.size() : 0);
-      kept.push_back(std::move(result.clusters[c]));
+  std::vector<GrownObject> grown;
+  for (size_t c = 0; c < n; ++c) {
+    if (owner[c] >= 0) continue;
+    if (!grown_of[c].parts.empty()) {
+      grown_of[c].index = kept.size();
+      grown.push_back(std::move(grown_of[c]));
     }
+    kept.push_back(std::move(result.clusters[c]));
+  }
   result.clusters = std::move(kept);
-  std::vector<size_t> refits;
-  for (size_t c : largest_first(refit_sizes))
-    if (refit_sizes[c] > 0) refits.push_back(c);
-  return refits;
+  // Biggest first (the caller's refits cost about their pixels).
+  std::stable_sort(grown.begin(), grown.end(), [&](const GrownObject& a, const GrownObject& b) {
+    return result.clusters[a.index].pixels.size() > result.clusters[b.index].pixels.size();
+  });
+  return grown;
+}
+
+// The kind of a cluster's shape; none when unknown.
+std::optional<ShapeKind> kind_of(const ScanCluster& c) {
+  if (c.shape.primitives.empty()) return std::nullopt;
+  return c.shape.primitives.front().primitive.kind;
+}
+
+// A grown object whose refit is another shape, explaining its points less than it did
+// alone by more than `slack`, took what was no part of it: a part a depth edge cut off
+// (a handle) leaves its owner's shape as it was, while a neighbour's piece beside its
+// solid (one cut off a touching body) bends it into another. It is as it was, each part
+// an object again (appended, its pixels labelled so). Returns the objects restored and
+// appended.
+std::vector<size_t> restore_spoiled(std::vector<GrownObject>& grown,
+                                    std::vector<ScanCluster>& clusters, std::vector<int>& label,
+                                    double slack) {
+  std::vector<size_t> changed;
+  for (GrownObject& g : grown) {
+    const ScanCluster& now = clusters[g.index];
+    const bool worse = now.shape.fit < g.before.shape.fit - slack;
+    if (!worse || kind_of(now) == kind_of(g.before)) continue;
+    clusters[g.index] = std::move(g.before);
+    changed.push_back(g.index);
+    for (ScanCluster& part : g.parts) {
+      for (int i : part.pixels) label[static_cast<size_t>(i)] = static_cast<int>(clusters.size());
+      changed.push_back(clusters.size());
+      clusters.push_back(std::move(part));
+    }
+  }
+  return changed;
 }
 
 // Objects standing on another object's top are fitted on that top (stacking.h).
@@ -2178,7 +2235,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape);
   };
   const TouchingSplitParams touching{.max_whole_coverage = params.touching_max_coverage,
-                                     .min_part_points = params.min_whole_points,
+                                     .min_part_size_m = params.touching_min_part_size_m,
                                      .waist_share = params.touching_waist_share};
   std::vector<std::optional<TouchingCut>> cuts(clusters.size());
   parallel_for(clusters.size(), [&](size_t c) {
@@ -2220,17 +2277,17 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
     sc.on_object = -1;
   }
   std::vector<char> apart(f.points.size(), 0);
-  const std::vector<size_t> grown = merge_parts(
+  std::vector<GrownObject> grown = merge_parts(
       params, result, label, [&](const ScanCluster& sc) { return cut_or_hidden(sc.pixels); }, apart);
   // The grown objects fitted again (each on its own pixels: refit_part) beside what
   // joining occluded pieces reads (the label rebuilt, each object's piece): one pass of
   // independent items, the refits first (the longest).
-  const size_t kept = result.clusters.size();
+  size_t kept = result.clusters.size();
   std::vector<OccludedPiece> pieces(params.join_occluded ? kept : 0);
   parallel_for(grown.size() + (params.join_occluded ? 1 + kept : 0), [&](size_t k) {
     if (k < grown.size()) {
       std::vector<Vec3> n;
-      refit_part(result.clusters[grown[k]], n);
+      refit_part(result.clusters[grown[k].index], n);
     } else if (k == grown.size()) {
       std::fill(label.begin(), label.end(), -1);
       for (size_t c = 0; c < kept; ++c)
@@ -2240,6 +2297,14 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
       pieces[c] = describe_piece(f, result.clusters[c]);
     }
   });
+  // Parts that spoil their owner's fit given back (restore_spoiled), their pieces anew.
+  const std::vector<size_t> restored =
+      restore_spoiled(grown, result.clusters, label, params.part_fit_slack);
+  kept = result.clusters.size();
+  if (params.join_occluded) {
+    pieces.resize(kept);
+    for (size_t c : restored) pieces[c] = describe_piece(f, result.clusters[c]);
+  }
   if (params.join_occluded) {
     // Pieces of one object either side of a nearer one become one (occlusion_join.h).
     join_occluded_pieces(

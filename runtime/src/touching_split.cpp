@@ -76,6 +76,12 @@ struct MeansCut {
   std::array<double, 2> m0{}, m1{};
 };
 
+// The pixels a body of the given size shows at depth z: the disc it spans in the image.
+int min_part_pixels(double size_m, double z) {
+  const double across_px = size_m * CameraIntrinsics{}.fx / std::max(z, 0.1);
+  return static_cast<int>(std::ceil(kPi / 4 * across_px * across_px));
+}
+
 // The cluster's pixels in two by two means of their footprint on the support, started
 // at the ends of its long axis; no side when either part is too small (under min_share
 // of the pixels or min_points).
@@ -255,11 +261,14 @@ std::optional<TouchingCut> touching_cut(
     const TouchingSplitParams& params) {
   const FitTerms whole = terms_of(f, cluster);
   if (whole.coverage >= params.max_whole_coverage || !seen_whole(cluster)) return std::nullopt;
-  const MeansCut means = two_means(f, cluster, params.min_part_share, params.min_part_points);
+  const int min_points = min_part_pixels(params.min_part_size_m, whole.depth);
+  const MeansCut means = two_means(f, cluster, params.min_part_share, min_points);
   const std::vector<char>& side = means.side;
-  if (side.empty() ||
-      !(misfit_on_one_side(f, cluster, side, shape) || (params.waist_share > 0 && footprint_waist(means, params.waist_share))))
-    return std::nullopt;
+  if (side.empty()) return std::nullopt;
+  const auto narrows = [&] {
+    return params.waist_share > 0 && footprint_waist(means, params.waist_share);
+  };
+  if (!misfit_on_one_side(f, cluster, side, shape) && !narrows()) return std::nullopt;
   ScanCluster a, b;
   a.support = b.support = cluster.support;
   for (size_t k = 0; k < side.size(); ++k) (side[k] ? b : a).pixels.push_back(cluster.pixels[k]);
@@ -276,12 +285,14 @@ std::optional<TouchingCut> touching_cut(
   for (int i : cluster.pixels) {
     const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
     const Vec3 v{p.x, p.y, p.z};
-    (surface_distance(b.shape.primitives.front(), v) < surface_distance(a.shape.primitives.front(), v) ? b2 : a2)
-        .pixels.push_back(i);
+    const bool nearer_b = surface_distance(b.shape.primitives.front(), v) <
+                          surface_distance(a.shape.primitives.front(), v);
+    (nearer_b ? b2 : a2).pixels.push_back(i);
   }
   const double least = std::max(params.min_part_share * static_cast<double>(cluster.pixels.size()),
-                                static_cast<double>(params.min_part_points));
-  if (static_cast<double>(std::min(a2.pixels.size(), b2.pixels.size())) >= least && (a2.pixels != a.pixels)) {
+                                static_cast<double>(min_points));
+  const auto smaller = static_cast<double>(std::min(a2.pixels.size(), b2.pixels.size()));
+  if (smaller >= least && a2.pixels != a.pixels) {
     std::vector<Vec3> na2, nb2;
     refit(a2, na2);
     refit(b2, nb2);

@@ -27,10 +27,11 @@ struct TouchingSplitParams {
   // Each part holds at least this share of the cluster's pixels (the segmenter's
   // min_object_share: smaller is a part of one object, not an object).
   double min_part_share = 0.08;
-  // ... and at least this many pixels (the scanner's min_whole_points): a smaller part
-  // would be reported partial, and far away a few independent samples cannot tell one
-  // primitive from two.
-  int min_part_points = 400;
+  // ... and at least the pixels a body this wide shows at the cluster's depth (the
+  // disc it spans; ScanParams::touching_min_part_size_m): smaller is no object the
+  // scanner reports whole, and the pixels of a body fall with the square of its depth,
+  // so a fixed count kept two far bodies as one.
+  double min_part_size_m = 0.05;
   // The cut is refitted when what the one primitive leaves out lies on one side of it,
   // or when the footprint narrows between the two means to under this share of its
   // width at the narrower one (ScanParams::touching_waist_share; a convex body's

@@ -289,6 +289,8 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->dropout_max_gap_px, d.dropout_max_gap_px);
   EXPECT_EQ(p->touching_max_coverage, d.touching_max_coverage);
   EXPECT_EQ(p->touching_waist_share, d.touching_waist_share);
+  EXPECT_EQ(p->touching_min_part_size_m, d.touching_min_part_size_m);
+  EXPECT_EQ(p->part_fit_slack, d.part_fit_slack);
   EXPECT_EQ(p->unseen_hold_no_parts, d.unseen_hold_no_parts);
   EXPECT_EQ(p->border_px, d.border_px);
   EXPECT_EQ(p->min_whole_points, d.min_whole_points);

@@ -202,6 +202,11 @@ struct ScanParams {
   // solid (a shelf's side and board edge as one box span the board and what stands on
   // it). false: any bigger object holds parts.
   bool unseen_hold_no_parts = true;
+  // A grown object whose refit is another shape, explaining its points less than it did
+  // alone by more than this, took a neighbour's piece (one cut off a touching body), not
+  // a part of its own (a handle leaves its shape as it was): it and its parts stay as
+  // they were. The occlusion join's slack. 1: never.
+  double part_fit_slack = 0.05;
   // Clusters split at concave creases and depth steps (object_segmenter.h).
   SegmenterParams segment;
   // A cluster whose shape explains less than this share of its points is tried as two
@@ -216,6 +221,10 @@ struct ScanParams {
   // two of its points, two touching ones narrow to their contact. 0: the one-side test
   // alone.
   double touching_waist_share = 0.7;
+  // Each of the two parts shows at least the pixels of a body this wide at its depth
+  // (the disc it spans in the image): the smallest object reported, whose pixel count
+  // falls with the square of its depth.
+  double touching_min_part_size_m = 0.05;
   // An object whose base sits on another object's top is fitted on that top face.
   bool stack_on_objects = true;
   // Pieces of one shape either side of a nearer object, which one primitive explains
