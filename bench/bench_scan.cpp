@@ -309,9 +309,12 @@ const char* background_name(int label) {
     case kLabelFurniture: return "furniture";
     case kLabelChair: return "chair";
     case kLabelShelf: return "shelf";
-    case kLabelBackChair: return "back chair";
-    case kLabelCabinet: return "cabinet";
-    case kLabelPole: return "pole";
+    case kLabelBackChair:
+      return "back chair";
+    case kLabelCabinet:
+      return "cabinet";
+    case kLabelPole:
+      return "pole";
     default: return "background";
   }
 }
@@ -340,9 +343,11 @@ std::string footing_note(const SyntheticFrame& f, const ScanCluster& c) {
     if (v > n) label = l, n = v;
   char text[96];
   std::snprintf(text, sizeof text, "h %.1f-%.1f cm, below it %s", 100 * lo, 100 * hi,
-                label >= 0 ? "an object" : label == kLabelTable ? "table" : label == kLabelFloor ? "floor"
-                                                                     : label == kLabelWall ? "wall"
-                                                                                           : background_name(label));
+                label >= 0             ? "an object"
+                : label == kLabelTable ? "table"
+                : label == kLabelFloor ? "floor"
+                : label == kLabelWall  ? "wall"
+                                       : background_name(label));
   return text;
 }
 
@@ -437,10 +442,12 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
         false_shelves += owner[k2] == kLabelShelf;
         if (owner[k2] <= kLabelBackChair) ++false_extras[owner[k2]];
         if (verbose)
-          std::printf("  seed %d %s: %s reported whole (%s, %d points, on %s, %s)\n", seed, o.id.c_str(),
-                      background_name(owner[k2]),
-                      o.primitives.empty() ? "unknown" : std::string(shape_name(o.primitives[0].kind)).c_str(),
-                      o.point_count, o.support_id.c_str(), footing_note(f, scan->clusters[k2]).c_str());
+          std::printf("  seed %d %s: %s reported whole (%s, %d points, on %s, %s)\n", seed,
+                      o.id.c_str(), background_name(owner[k2]),
+                      o.primitives.empty() ? "unknown"
+                                           : std::string(shape_name(o.primitives[0].kind)).c_str(),
+                      o.point_count, o.support_id.c_str(),
+                      footing_note(f, scan->clusters[k2]).c_str());
       } else if (f.truth.objects[static_cast<size_t>(owner[k2])].partial) {
         partial_flagged += o.partial;
         slivers += !o.partial;
@@ -591,10 +598,11 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
               false_props, false_legs, false_furniture, false_chairs, false_shelves, slivers,
               partial_flagged, cut_objects, fragments);
   if (room)
-    std::printf("  room extras (scenes showing it: false props on it): back chair %d: %d, cabinet %d: %d, "
-                "pole %d: %d\n",
-                extra_scenes[kLabelBackChair], false_extras[kLabelBackChair], extra_scenes[kLabelCabinet],
-                false_extras[kLabelCabinet], extra_scenes[kLabelPole], false_extras[kLabelPole]);
+    std::printf(
+        "  room extras (scenes showing it: false props on it): back chair %d: %d, cabinet %d: %d, "
+        "pole %d: %d\n",
+        extra_scenes[kLabelBackChair], false_extras[kLabelBackChair], extra_scenes[kLabelCabinet],
+        false_extras[kLabelCabinet], extra_scenes[kLabelPole], false_extras[kLabelPole]);
   if (!by_feature.empty()) {
     std::printf("  room features (objects >= 5 cm, not cut; found / class / median size error per band):\n");
     for (const auto& [feature, bands3] : by_feature) {

@@ -66,7 +66,8 @@ namespace {
 // Whether something nearer hides the cluster's top (`top`) or foot: in more than half of
 // its grid columns the first valid pixel one to three grid rows beyond its end pixel is
 // nearer to the camera than that pixel by more than the tolerance.
-bool end_hidden(const Frame& f, const std::vector<int>& grid, int step, const ToleranceAt& tolerance, bool top) {
+bool end_hidden(const Frame& f, const std::vector<int>& grid, int step,
+                const ToleranceAt& tolerance, bool top) {
   const std::map<int, int> ends = end_per_column(f, grid, top);
   if (ends.size() < 3) return false;
   const int row = (top ? -step : step) * f.width;

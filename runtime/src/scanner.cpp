@@ -2278,7 +2278,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
   }
   std::vector<char> apart(f.points.size(), 0);
   std::vector<GrownObject> grown = merge_parts(
-      params, result, label, [&](const ScanCluster& sc) { return cut_or_hidden(sc.pixels); }, apart);
+      params, result, label, [&](const ScanCluster& sc) { return cut_or_hidden(sc.pixels); },
+      apart);
   // The grown objects fitted again (each on its own pixels: refit_part) beside what
   // joining occluded pieces reads (the label rebuilt, each object's piece): one pass of
   // independent items, the refits first (the longest).

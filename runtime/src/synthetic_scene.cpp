@@ -200,9 +200,12 @@ int block_label(SyntheticBlock::Role role) {
     case SyntheticBlock::Role::leg: return kLabelLeg;
     case SyntheticBlock::Role::chair: return kLabelChair;
     case SyntheticBlock::Role::shelf: return kLabelShelf;
-    case SyntheticBlock::Role::back_chair: return kLabelBackChair;
-    case SyntheticBlock::Role::cabinet: return kLabelCabinet;
-    case SyntheticBlock::Role::pole: return kLabelPole;
+    case SyntheticBlock::Role::back_chair:
+      return kLabelBackChair;
+    case SyntheticBlock::Role::cabinet:
+      return kLabelCabinet;
+    case SyntheticBlock::Role::pole:
+      return kLabelPole;
     case SyntheticBlock::Role::support:
     case SyntheticBlock::Role::tall: return kLabelFurniture;
   }
@@ -275,12 +278,14 @@ Result<SyntheticScene> generate_scene(const SyntheticSceneParams& params) {
     return Error{"side support objects must not be negative, cut share within [0, 1]", {}};
   auto share = [](double x) { return x >= 0 && x <= 1; };
   if (params.floor_objects < 0 || params.shelf_objects < 0 || !share(params.chair_chance) ||
-      !share(params.shelf_chance) || !share(params.touching_share) || !share(params.overhang_share) ||
-      !share(params.dark_share) || !share(params.back_chair_chance) || !share(params.cabinet_chance) ||
+      !share(params.shelf_chance) || !share(params.touching_share) ||
+      !share(params.overhang_share) || !share(params.dark_share) ||
+      !share(params.back_chair_chance) || !share(params.cabinet_chance) ||
       !share(params.pole_chance))
-    return Error{"floor and shelf objects must not be negative; chair, shelf, back chair, cabinet and "
-                 "pole chances, touching, overhang and dark shares within [0, 1]",
-                 {}};
+    return Error{
+        "floor and shelf objects must not be negative; chair, shelf, back chair, cabinet and "
+        "pole chances, touching, overhang and dark shares within [0, 1]",
+        {}};
 
   // Whole layouts are redrawn (camera included) when the objects do not fit; the
   // random stream stays the seed's, so the result is still deterministic.
@@ -380,12 +385,14 @@ void add_chair(SyntheticScene& s, const ChairSize& c, double back_sign, Syntheti
   const double thick = 0.03, leg = 0.03, floor = -s.floor_depth_m;
   s.furniture.push_back({{c.x, c.y, floor + c.seat_top - 0.5 * thick}, {c.w, c.d, thick}, role});
   s.furniture.push_back(
-      {{c.x, c.y + back_sign * 0.5 * (c.d - thick), floor + c.seat_top + 0.5 * c.back}, {c.w, thick, c.back}, role});
+      {{c.x, c.y + back_sign * 0.5 * (c.d - thick), floor + c.seat_top + 0.5 * c.back},
+       {c.w, thick, c.back},
+       role});
   const double leg_height = c.seat_top - thick;
   for (double sx : {-1.0, 1.0})
     for (double sy : {-1.0, 1.0})
-      s.furniture.push_back({{c.x + sx * (0.5 * c.w - 0.02 - 0.5 * leg), c.y + sy * (0.5 * c.d - 0.02 - 0.5 * leg),
-                              floor + 0.5 * leg_height},
+      s.furniture.push_back({{c.x + sx * (0.5 * c.w - 0.02 - 0.5 * leg),
+                              c.y + sy * (0.5 * c.d - 0.02 - 0.5 * leg), floor + 0.5 * leg_height},
                              {leg, leg, leg_height},
                              role});
 }
@@ -570,8 +577,8 @@ std::pair<double, double> depth_range(const SyntheticScene& s, Vec3 center, Vec3
 // footprint, a share of the image at least, and hiding no object: where its image box
 // meets an object's (grown by the jitter's reach) it lies wholly behind that object, so
 // every object is seen as before. None when no place is found.
-std::optional<Vec3> place_extra(const SyntheticScene& s, std::mt19937_64& rng, Vec3 half, double near,
-                                double far) {
+std::optional<Vec3> place_extra(const SyntheticScene& s, std::mt19937_64& rng, Vec3 half,
+                                double near, double far) {
   const double gap = 0.03, min_image_share = 0.03, grow_px = 6, half_view = 0.55;
   std::vector<PixelRect> object_rects;
   std::vector<double> object_far;
@@ -588,12 +595,14 @@ std::optional<Vec3> place_extra(const SyntheticScene& s, std::mt19937_64& rng, V
   };
   for (int attempt = 0; attempt < kPlacementAttempts; ++attempt) {
     const double ahead = uniform(rng, near, far);
-    const Vec3 c{s.camera_position.x + uniform(rng, -half_view, half_view) * ahead, s.camera_position.y + ahead,
-                 -s.floor_depth_m + half.z};
-    if (c.y + half.y + gap > s.wall_y_m || !clear_of(c, {0, 0, 0}, {s.table_half_x_m, s.table_half_y_m, 0}))
+    const Vec3 c{s.camera_position.x + uniform(rng, -half_view, half_view) * ahead,
+                 s.camera_position.y + ahead, -s.floor_depth_m + half.z};
+    if (c.y + half.y + gap > s.wall_y_m ||
+        !clear_of(c, {0, 0, 0}, {s.table_half_x_m, s.table_half_y_m, 0}))
       continue;
     bool clear = true;
-    for (const SyntheticBlock& b : s.furniture) clear = clear && clear_of(c, b.center, b.size_m * 0.5);
+    for (const SyntheticBlock& b : s.furniture)
+      clear = clear && clear_of(c, b.center, b.size_m * 0.5);
     for (const SyntheticObject& o : s.objects) {
       const double f = footprint_radius(o);
       clear = clear && clear_of(c, o.center, {f, f, 0});
@@ -612,7 +621,8 @@ std::optional<Vec3> place_extra(const SyntheticScene& s, std::mt19937_64& rng, V
 void add_back_chair(SyntheticScene& s, std::mt19937_64& rng) {
   const double w = uniform(rng, 0.4, 0.48), d = uniform(rng, 0.4, 0.48);
   const double seat_top = uniform(rng, 0.42, 0.48), back = uniform(rng, 0.35, 0.5);
-  const std::optional<Vec3> c = place_extra(s, rng, {0.5 * w, 0.5 * d, 0.5 * (seat_top + back)}, 0.9, 2.5);
+  const std::optional<Vec3> c =
+      place_extra(s, rng, {0.5 * w, 0.5 * d, 0.5 * (seat_top + back)}, 0.9, 2.5);
   if (c) add_chair(s, {c->x, c->y, w, d, seat_top, back}, -1, SyntheticBlock::Role::back_chair);
 }
 
@@ -622,8 +632,8 @@ void add_cabinet(SyntheticScene& s, std::mt19937_64& rng) {
   const double w = uniform(rng, 0.6, 1.0), d = uniform(rng, 0.35, 0.5), h = uniform(rng, 0.7, 1.1);
   const double door = 0.018, handle = 0.022, plinth = 0.08, rim = 0.015, door_gap = 0.006;
   const double depth = d + door + handle;
-  const std::optional<Vec3> c = place_extra(s, rng, {0.5 * w, 0.5 * depth, 0.5 * h}, 0.7 + 0.5 * depth,
-                                            1.5 + 0.5 * depth);
+  const std::optional<Vec3> c =
+      place_extra(s, rng, {0.5 * w, 0.5 * depth, 0.5 * h}, 0.7 + 0.5 * depth, 1.5 + 0.5 * depth);
   if (!c) return;
   const double front = c->y - 0.5 * depth, floor = -s.floor_depth_m;
   const auto role = SyntheticBlock::Role::cabinet;
@@ -634,16 +644,18 @@ void add_cabinet(SyntheticScene& s, std::mt19937_64& rng) {
     s.furniture.push_back({{door_x, front + handle + 0.5 * door, floor + plinth + 0.5 * door_h},
                            {door_w, door, door_h},
                            role});
-    s.furniture.push_back({{c->x + sx * (0.5 * door_gap + 0.04), front + 0.5 * handle, floor + h - rim - 0.15},
-                           {0.015, handle, 0.12},
-                           role});
+    s.furniture.push_back(
+        {{c->x + sx * (0.5 * door_gap + 0.04), front + 0.5 * handle, floor + h - rim - 0.15},
+         {0.015, handle, 0.12},
+         role});
   }
 }
 
 // A post from the floor up past the view (a pillar, a lamp's stand), 0.7 to 2.2 m away.
 void add_pole(SyntheticScene& s, std::mt19937_64& rng) {
   const double side = uniform(rng, 0.06, 0.12), height = 2.5;
-  const std::optional<Vec3> c = place_extra(s, rng, {0.5 * side, 0.5 * side, 0.5 * height}, 0.7, 2.2);
+  const std::optional<Vec3> c =
+      place_extra(s, rng, {0.5 * side, 0.5 * side, 0.5 * height}, 0.7, 2.2);
   if (c) s.furniture.push_back({*c, {side, side, height}, SyntheticBlock::Role::pole});
 }
 

@@ -212,9 +212,11 @@ TEST(SyntheticRooms, RoomExtrasLeaveTheRestOfTheRoomAsItWas) {
     const SyntheticFrame fw = render_scene(with, exact()), fo = render_scene(without, exact());
     for (std::size_t i = 0; i < with.objects.size(); ++i) {
       EXPECT_EQ(with.objects[i].center.x, without.objects[i].center.x) << "seed " << seed;
-      EXPECT_EQ(count_label(fw, static_cast<int>(i)), count_label(fo, static_cast<int>(i))) << "seed " << seed;
+      EXPECT_EQ(count_label(fw, static_cast<int>(i)), count_label(fo, static_cast<int>(i)))
+          << "seed " << seed;
     }
-    for (int label : {kLabelBackChair, kLabelCabinet, kLabelPole}) shown[label] += count_label(fw, label) > 0;
+    for (int label : {kLabelBackChair, kLabelCabinet, kLabelPole})
+      shown[label] += count_label(fw, label) > 0;
   }
   // A cabinet about a metre away finds a place clear of the table in fewer rooms (about
   // one in eight): ABackChairTurnsItsBackAndACabinetItsDoorsToTheCamera forces it.
@@ -237,7 +239,8 @@ TEST(SyntheticRooms, ABackChairTurnsItsBackAndACabinetItsDoorsToTheCamera) {
         blocks_of(room(only(seed, "back chair")), SyntheticBlock::Role::back_chair);
     if (!chair.empty()) {
       ASSERT_EQ(chair.size(), 6u) << "seat, back, four legs; seed " << seed;
-      EXPECT_LT(chair[1].center.y, chair[0].center.y) << "its back on the camera's side; seed " << seed;
+      EXPECT_LT(chair[1].center.y, chair[0].center.y)
+          << "its back on the camera's side; seed " << seed;
       ++chairs;
     }
     const SyntheticScene k = room(only(seed, "cabinet"));
@@ -245,7 +248,8 @@ TEST(SyntheticRooms, ABackChairTurnsItsBackAndACabinetItsDoorsToTheCamera) {
     if (!cabinet.empty()) {
       ASSERT_EQ(cabinet.size(), 5u) << "body, two doors, two handles; seed " << seed;
       const double front = cabinet[0].center.y - 0.5 * cabinet[0].size_m.y;
-      EXPECT_NEAR(cabinet[1].center.y + 0.5 * cabinet[1].size_m.y, front, 1e-9) << "a door on its front";
+      EXPECT_NEAR(cabinet[1].center.y + 0.5 * cabinet[1].size_m.y, front, 1e-9)
+          << "a door on its front";
       const double ahead = front - k.camera_position.y;
       EXPECT_GT(ahead, 0.65);
       EXPECT_LT(ahead, 1.55);
@@ -694,7 +698,6 @@ TEST(ScannerRooms, ASliverCutByTheBorderHoldsNoBallAndBowl) {
   EXPECT_EQ(right[0], 0);
   EXPECT_EQ(right[1], 2);
 }
-
 
 // Held-out room 5118: the touching cut of a ball gives the ball's part a piece of the
 // flat torus it touches; the piece lies in the torus's solid, and merged into it the

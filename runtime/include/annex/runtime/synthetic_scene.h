@@ -200,9 +200,9 @@ inline constexpr int kLabelLeg = -6;        // table legs
 inline constexpr int kLabelFurniture = -7;  // second supports and tall furniture
 inline constexpr int kLabelChair = -8;      // a chair's seat, back and legs
 inline constexpr int kLabelShelf = -9;      // a shelf's boards and side panels
-inline constexpr int kLabelBackChair = -10; // a chair seen from behind
-inline constexpr int kLabelCabinet = -11;   // a cabinet's body, doors and handles
-inline constexpr int kLabelPole = -12;      // a post from the floor up
+inline constexpr int kLabelBackChair = -10;  // a chair seen from behind
+inline constexpr int kLabelCabinet = -11;    // a cabinet's body, doors and handles
+inline constexpr int kLabelPole = -12;       // a post from the floor up
 
 struct SyntheticFrame {
   Frame frame;              // organized, camera frame, NaN where the sensor saw nothing
