@@ -844,6 +844,10 @@ Local mean_local(const std::vector<Local>& p) {
   return m;
 }
 
+// How far a sphere's fitted height or diameter may be from what rests on the plane: the
+// fit's error on a seen cap grows with the radius, and is at least the sensor's 1.2 cm.
+double sphere_slack(double r) { return std::max(0.012, 0.2 * r); }
+
 Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
   Candidate c;
   c.model = Model::sphere;
@@ -872,7 +876,7 @@ Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
   c.r0 = std::abs(x[3]);
   // A resting sphere's centre is one radius above the plane.
   const bool resting = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m &&
-                       std::abs(c.hc - c.r0) < std::max(0.012, 0.2 * c.r0);
+                       std::abs(c.hc - c.r0) < sphere_slack(c.r0);
   // Then it is fitted as resting: three parameters, its centre one radius up. A cap seen
   // alone (a dark ball lit only where it faces the camera) leaves the free fit's radius
   // and height ill-determined, while its top, seen from above, is the ball's: the
@@ -895,7 +899,7 @@ Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
   c.cb = y[1];
   c.hc = c.r0 = std::abs(y[2]);
   c.valid = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m &&
-            (resting || std::abs(2 * c.r0 - s.top) < std::max(0.012, 0.2 * c.r0));
+            (resting || std::abs(2 * c.r0 - s.top) < sphere_slack(c.r0));
   // A sphere shows its curvature both across the view and along it: a strip of a
   // cylinder's or a cone's side curves across only, a box's edge along only
   // (view_curvature).
