@@ -20,7 +20,6 @@
 #include "annex/runtime/osc_stream.h"
 #include "annex/runtime/overlay_labels.h"
 #include "annex/runtime/renderer.h"
-#include "annex/runtime/target_volume_segmenter.h"
 #include "commands.h"
 #include "depth_options.h"
 #include "hmd_option.h"
@@ -454,15 +453,10 @@ int run_run(const std::vector<std::string>& args) {
 
     if (!renderer) continue;
     // Again when the resolution changes (the sensor switched modes).
-    if (!camera || camera->width != frame.width || camera->height != frame.height) {
-      if (auto k = estimate_intrinsics(frame)) {
-        camera = *k;
-      } else {  // the Kinect's defaults, at this resolution
-        const double s = frame.width / 640.0;
-        camera = CameraIntrinsics{frame.width, frame.height, 525.0 * s, 525.0 * s,
-                                  (frame.width - 1) / 2.0, (frame.height - 1) / 2.0};
-      }
-    }
+    // The frame's own camera (as its source gave or recovered it; the Kinect's scaled to
+    // the grid otherwise).
+    if (!camera || camera->width != frame.width || camera->height != frame.height)
+      camera = grid_intrinsics(frame);
     RenderScene rs;
     rs.frame = &frame;
     rs.camera = *camera;

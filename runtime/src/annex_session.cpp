@@ -370,13 +370,14 @@ FrameReport AnnexSession::process(const Frame& frame, int frame_index) {
   const auto t_frame = Clock::now();
   FrameReport report;
   report.frame_index = frame_index;
-  // Recovered from the first frame that allows it (until then cubes are cut by a full scan).
+  // The parameters' camera, else the frame's own (as its source gave or recovered it);
+  // an unorganized cloud has no pixels to project cubes into, so it is cut by a full scan.
   if (params_.camera && params_.camera->width == frame.width &&
       params_.camera->height == frame.height) {
     camera_ = params_.camera;
   } else if (!camera_ || camera_->width != frame.width || camera_->height != frame.height) {
     camera_.reset();
-    if (Result<CameraIntrinsics> k = estimate_intrinsics(frame)) camera_ = *k;
+    if (frame.organized()) camera_ = grid_intrinsics(frame);
   }
 
   report.timestamp_s = frame.timestamp_s;

@@ -272,7 +272,7 @@ DiscCylinderFit fit_cylinder_on_rim(const std::vector<Vec3>& points, const std::
     if (far[b] >= 0) {
       rim.push_back(q[far[b]]);
       // The outline is where depth ends: a silhouette pixel is off by about a pixel.
-      const double pixel = std::abs(points[far[b]].z) / 525.0;
+      const double pixel = std::abs(points[far[b]].z) / params.focal_px;
       rim_tol.push_back(std::max(tol[far[b]], 2 * pixel));
     }
   if (rim.size() < kBins / 2) return out;

@@ -129,7 +129,7 @@ std::vector<std::vector<int>> join_dropout_fragments(
       cells[static_cast<size_t>((i / f.width) / cell) * cw + (i % f.width) / cell].push_back({i, static_cast<int>(s)});
   std::vector<int> parent(small.size());
   std::iota(parent.begin(), parent.end(), 0);
-  const double fx = CameraIntrinsics{}.fx;
+  const double fx = focal_px(f);
   for (size_t c = 0; c < cells.size(); ++c) {
     const int cx = static_cast<int>(c) % cw, cy = static_cast<int>(c) / cw;
     for (const auto& [i, s] : cells[c]) {

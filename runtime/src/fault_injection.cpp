@@ -27,6 +27,9 @@ Frame half_resolution(const Frame& f) {
   Frame out = f;
   out.width = f.width / 2;
   out.height = f.height / 2;
+  // Every second pixel of every second row: pixel u is the source's 2u.
+  const CameraIntrinsics k = grid_intrinsics(f);
+  out.intrinsics = {out.width, out.height, k.fx / 2, k.fy / 2, k.cx / 2, k.cy / 2};
   out.points.resize(static_cast<size_t>(out.width) * out.height);
   for (int v = 0; v < out.height; ++v)
     for (int u = 0; u < out.width; ++u)

@@ -252,6 +252,7 @@ Result<Frame> depth_to_frame(const DepthImage& depth, const ColorImage* color,
   Frame frame;
   frame.width = depth.width;
   frame.height = depth.height;
+  frame.intrinsics = intrinsics;
   frame.points.resize(count);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const double inv_fx = 1.0 / intrinsics.fx, inv_fy = 1.0 / intrinsics.fy;

@@ -155,7 +155,7 @@ bool foot_cut_by_bottom(const Frame& f, const std::vector<int>& pixels, int bott
     int& l = lowest[static_cast<size_t>(i % f.width - lo_col)];
     l = std::max(l, i);
   }
-  const double fy = CameraIntrinsics{}.fy;
+  const double fy = grid_intrinsics(f).fy;
   int cut = 0;
   for (size_t c = 0; c < lowest.size(); ++c) {
     const int i = lowest[c];

@@ -141,7 +141,7 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
   };
 
   // Crease pixels.
-  const double fx = CameraIntrinsics{}.fx * f.width / CameraIntrinsics{}.width;
+  const double fx = focal_px(f);
   std::vector<char> crease(n, 0);
   const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
   // The directions' lengths, hypot(d) (1 along rows and columns), computed once.

@@ -513,7 +513,7 @@ double outline_round_over_rectangle(const std::vector<std::array<double, 2>>& pt
   for (int b = 0; b < kBins; ++b)
     if (far[b] >= 0) {
       rim.push_back(pts[far[b]]);
-      tol.push_back(std::max(pt_tol[far[b]], 2 * std::abs(depth[far[b]]) / 525.0));
+      tol.push_back(std::max(pt_tol[far[b]], 2 * std::abs(depth[far[b]]) / params.focal_px));
     }
   if (rim.size() < 0.75 * kBins) return 0;
   const Circle start = kasa_circle(rim);
@@ -1444,12 +1444,12 @@ struct SelectionEntry {
 // default MLS radius and window, scanner.cpp smooth_cluster), so points that close share
 // their noise. Each point counts one over the number of points in its neighbourhood,
 // counted on every k-th point (k x that count) so that it costs at most 200 per point.
-double independent_points(const Samples& s) {
+double independent_points(const Samples& s, double focal_px) {
   const size_t stride = std::max<size_t>(1, s.xyz.size() / 200);
   double n = 0;
   for (size_t i = 0; i < s.xyz.size(); ++i) {
     const double z = std::abs(s.xyz[i].z);
-    const double r = shared_noise_radius_m(z);
+    const double r = shared_noise_radius_m(z, focal_px);
     size_t near = 0;
     for (size_t j = i % stride; j < s.xyz.size(); j += stride) {
       const Vec3 d = s.xyz[j] - s.xyz[i];
@@ -1556,7 +1556,7 @@ std::optional<Candidate> frustum_under_rim(const Samples& s, const Candidate& cy
   const double lo = cyl.h0 + 0.15 * h, hi = cyl.h1 - std::max(2 * tol, 0.25 * h);
   if (hi <= lo) return std::nullopt;
   const double range = len2(d, e - 0.5 * (lo + hi));
-  const double fx = CameraIntrinsics{}.fx;
+  const double fx = params.focal_px;
   const double expected = sampled * 2 * r * (hi - lo) * (d / range) * (fx / range) * (fx / range);
   if (expected < 30) return std::nullopt;  // a few pixels: nothing to tell
   int seen = 0;
@@ -1772,7 +1772,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
           index.push_back(static_cast<int>(i));
         }
       if (index.size() < 2) return;
-      if (independent.value < 0) independent.value = independent_points(s);
+      if (independent.value < 0) independent.value = independent_points(s, params.focal_px);
       best = index[static_cast<size_t>(margin_paid_choice(entries, independent.value, tol2,
                                                           1 - params.complexity_margin))];
       return;
@@ -1787,7 +1787,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
         saturated += cands[i].coverage >= 1 - params.complexity_margin;
       }
     if (saturated < 2) return;  // nothing to choose between
-    if (independent.value < 0) independent.value = independent_points(s);
+    if (independent.value < 0) independent.value = independent_points(s, params.focal_px);
     const int pick = saturated_choice(entries, independent.value, tol2, 1 - params.complexity_margin);
     if (pick >= 0) best = index[static_cast<size_t>(pick)];
   };

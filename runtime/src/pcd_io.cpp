@@ -18,6 +18,8 @@
 #include <system_error>
 
 #include "annex/formats/file_io.h"
+#include "annex/runtime/params_validation.h"
+#include "annex/runtime/target_volume_segmenter.h"
 
 namespace annex {
 namespace {
@@ -467,9 +469,16 @@ Status check_pcd_promise(const PcdHeader& h, std::uint64_t file_size, const std:
   return Ok{};
 }
 
-}  // namespace
+// A PCD holds points, not the camera: an organized cloud's pixels are back-projected
+// through one, recovered here by least squares (estimate_intrinsics); the Kinect's, as
+// scaled to the grid, when the points follow no pinhole camera.
+void recover_intrinsics(Frame& frame) {
+  if (!frame.organized()) return;
+  const Result<CameraIntrinsics> k = estimate_intrinsics(frame);
+  if (k && validate_intrinsics(*k)) frame.intrinsics = *k;
+}
 
-Result<Frame> decode_pcd(std::string_view bytes, std::string_view origin) {
+Result<Frame> decode_body(std::string_view bytes, std::string_view origin) {
   Result<PcdHeader> header = parse_pcd_header(bytes.substr(0, kMaxHeaderBytes), origin);
   if (!header) return header.error();
   const PcdHeader& h = *header;
@@ -512,6 +521,14 @@ Result<Frame> decode_pcd(std::string_view bytes, std::string_view origin) {
                      std::to_string(sizes[1]) + " bytes",
                  Location{std::string(origin)}};
   return decode_fixed(h, *ff, unpacked.data(), views, origin);
+}
+
+}  // namespace
+
+Result<Frame> decode_pcd(std::string_view bytes, std::string_view origin) {
+  Result<Frame> frame = decode_body(bytes, origin);
+  if (frame) recover_intrinsics(*frame);
+  return frame;
 }
 
 Result<Frame> read_pcd(const std::filesystem::path& path) {

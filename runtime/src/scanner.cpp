@@ -57,6 +57,7 @@ Frame organize(const Frame& in) {
   out.height = k.height;
   out.timestamp_s = in.timestamp_s;
   out.index = in.index;
+  out.intrinsics = k;
   PointXYZRGB nan;
   nan.x = nan.y = nan.z = std::numeric_limits<float>::quiet_NaN();
   out.points.assign(static_cast<size_t>(k.width) * k.height, nan);
@@ -765,12 +766,13 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
   points.clear();
   normals.clear();
   const int w = params.mls_window_px;
+  const double fx = focal_px(f);
   for (size_t k = 0; k < pixels.size(); k += step) {
     const int i = pixels[k], x = i % f.width, y = i / f.width;
     const Vec3 p = to_vec(f.points[i]);
     // Far away, pixels spread and depth steps grow (1.8 cm at 2.5 m): the radius
     // widens to reach the window's pixels and span the noise, else no plane is found.
-    const double pixel_m = p.z / CameraIntrinsics{}.fx;  // Kinect pixel spacing at depth
+    const double pixel_m = p.z / fx;  // the pixels' spacing at that depth
     const double r = std::max({params.mls_radius_m, 3 * kinect_sigma_z(p.z), 1.5 * w * pixel_m});
     const double r2 = r * r;
     // The sums of the coordinates and of their six distinct products (the second
@@ -1075,7 +1077,7 @@ bool on_plane(const PlaneFit& plane, const std::vector<Vec3>& sample, double gap
 // board 2 m away seen at a grazing angle covers 30 times a near table's area per pixel.
 double seen_area_m2(const Frame& f, const std::vector<int>& members, const PlaneFit& plane,
                     int stride) {
-  const double fx = CameraIntrinsics{}.fx;
+  const double fx = focal_px(f);
   double area = 0;
   for (int i : members) {
     const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
@@ -1598,14 +1600,26 @@ void order_and_name_objects(ScanResult& result) {
   result.scene.objects = std::move(objects);
 }
 
+namespace {
+
+// The parameters with the frame's camera: the recognizer counts pixels with its focal
+// length (ShapeRecognizerParams::focal_px).
+ScanParams with_camera_of(const Frame& f, const ScanParams& given) {
+  ScanParams p = given;
+  p.shape.focal_px = focal_px(f);
+  return p;
+}
+
+}  // namespace
+
 Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
   ScanWorkers workers;  // started for this scan only
   return scan_frame(input, params, workers);
 }
 
-Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, ScanWorkers& workers) {
+Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanWorkers& workers) {
   // Parameters set in code are checked like a config file's (params_validation.h).
-  if (Status s = validate_scan_params(params); !s) return s.error();
+  if (Status s = validate_scan_params(given); !s) return s.error();
   if (input.width <= 0 || input.height <= 0 ||
       input.points.size() != static_cast<size_t>(input.width) * input.height)
     return Error{"frame size " + std::to_string(input.width) + "x" + std::to_string(input.height) +
@@ -1613,7 +1627,11 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params, Scan
                  {"frame " + std::to_string(input.index), 0, 0}};
   const Frame reorganized = input.organized() ? Frame{} : organize(input);
   const Frame& f = input.organized() ? input : reorganized;
-  const Location where{"frame " + std::to_string(input.index), 0, 0};
+  const std::string frame_name = "frame " + std::to_string(input.index);
+  if (Status s = validate_intrinsics(grid_intrinsics(f), frame_name + " intrinsics"); !s)
+    return s.error();
+  const ScanParams params = with_camera_of(f, given);
+  const Location where{frame_name, 0, 0};
   ScanResult result;
   std::mt19937_64 rng(params.shape.seed);
   const Vec3 up = effective_up(params);

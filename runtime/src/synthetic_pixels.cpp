@@ -24,6 +24,7 @@ void sense_pixels(const std::vector<PixelHit>& hits, const CameraIntrinsics& cam
   const std::size_t n = static_cast<std::size_t>(w) * h;
   frame.width = w;
   frame.height = h;
+  frame.intrinsics = cam;
   frame.points.resize(n);
   labels.resize(n);
   const float nan = std::numeric_limits<float>::quiet_NaN();

@@ -16,6 +16,7 @@ constexpr double kPi = 3.14159265358979323846;
 struct FitTerms {
   double pixels = 0;     // full-resolution pixels
   double depth = 0;      // their mean depth
+  double focal_px = 0;   // the frame's: a pixel's footprint at that depth is depth / focal_px
   double coverage = 0, rms = 0;
   int parameters = 0;
   bool recognised = false;
@@ -42,6 +43,7 @@ FitTerms terms_of(const Frame& f, const ScanCluster& c) {
     }
   t.pixels = n;
   t.depth = n > 0 ? z / n : 1;
+  t.focal_px = focal_px(f);
   t.recognised = !c.shape.primitives.empty();
   if (const ShapeFit* fit = fit_of(c)) {
     t.coverage = fit->coverage;
@@ -55,8 +57,8 @@ FitTerms terms_of(const Frame& f, const ScanCluster& c) {
 // over that of the neighbourhood it shares its noise with (shared_noise_radius_m; the
 // recognizer's independent_points).
 double independent(const FitTerms& t) {
-  const double z = t.depth, pixel = z / CameraIntrinsics{}.fx;
-  const double r = shared_noise_radius_m(z);
+  const double z = t.depth, pixel = z / t.focal_px;
+  const double r = shared_noise_radius_m(z, t.focal_px);
   return std::max(1.0, t.pixels * pixel * pixel / (kPi * r * r));
 }
 
@@ -77,8 +79,8 @@ struct MeansCut {
 };
 
 // The pixels a body of the given size shows at depth z: the disc it spans in the image.
-int min_part_pixels(double size_m, double z) {
-  const double across_px = size_m * CameraIntrinsics{}.fx / std::max(z, 0.1);
+int min_part_pixels(double size_m, double z, double focal_px) {
+  const double across_px = size_m * focal_px / std::max(z, 0.1);
   return static_cast<int>(std::ceil(kPi / 4 * across_px * across_px));
 }
 
@@ -261,7 +263,7 @@ std::optional<TouchingCut> touching_cut(
     const TouchingSplitParams& params) {
   const FitTerms whole = terms_of(f, cluster);
   if (whole.coverage >= params.max_whole_coverage || !seen_whole(cluster)) return std::nullopt;
-  const int min_points = min_part_pixels(params.min_part_size_m, whole.depth);
+  const int min_points = min_part_pixels(params.min_part_size_m, whole.depth, whole.focal_px);
   const MeansCut means = two_means(f, cluster, params.min_part_share, min_points);
   const std::vector<char>& side = means.side;
   if (side.empty()) return std::nullopt;

@@ -85,6 +85,24 @@ TEST(FaultPlan, ParsesEveryKindAndRefusesNonsense) {
   }
 }
 
+// Every second pixel of every second row: the camera's focal length and centre halve
+// with the grid, so the pixels still back-project to where they were.
+TEST(FaultInjection, HalfResolutionHalvesTheIntrinsics) {
+  Frame f = small_frame(0, 640, 480);
+  f.intrinsics = {640, 480, 580, 582, 320, 242};
+  auto grabber = inject_faults(std::make_unique<VectorGrabber>(std::vector<Frame>{f}),
+                               {Fault{FaultKind::half_resolution, 0, 0}});
+  const auto half = grabber->next();
+  ASSERT_TRUE(half.ok() && half->has_value());
+  const CameraIntrinsics& k = (*half)->intrinsics;
+  EXPECT_EQ(k.width, 320);
+  EXPECT_EQ(k.height, 240);
+  EXPECT_DOUBLE_EQ(k.fx, 290);
+  EXPECT_DOUBLE_EQ(k.fy, 291);
+  EXPECT_DOUBLE_EQ(k.cx, 160);
+  EXPECT_DOUBLE_EQ(k.cy, 121);
+}
+
 TEST(FaultInjection, EachFaultAndWhatTheMonitorSays) {
   auto plan = parse_fault_plan("stall@1:300,drop@2,nan@3,halfres@4,disconnect@5-6");
   ASSERT_TRUE(plan.ok());

@@ -79,6 +79,45 @@ TEST(DepthToFrame, FrontoParallelPlaneBackProjectsThroughThePinholeModel) {
   }
 }
 
+// The frame keeps the camera its pixels went through: the scanner's pixel-size rules
+// count with it (frame.h, grid_intrinsics).
+TEST(DepthToFrame, TheFrameCarriesTheIntrinsicsItWasBackProjectedWith) {
+  const CameraIntrinsics k{320, 240, 291.3, 290.8, 157.25, 121.5};
+  DepthImage d{k.width, k.height, std::vector<std::uint16_t>(k.width * k.height, 1500)};
+  const Result<Frame> f = depth_to_frame(d, nullptr, k);
+  ASSERT_TRUE(f.ok()) << f.error().format();
+  EXPECT_EQ(f->intrinsics.width, 320);
+  EXPECT_EQ(f->intrinsics.height, 240);
+  EXPECT_DOUBLE_EQ(f->intrinsics.fx, 291.3);
+  EXPECT_DOUBLE_EQ(f->intrinsics.fy, 290.8);
+  EXPECT_DOUBLE_EQ(f->intrinsics.cx, 157.25);
+  EXPECT_DOUBLE_EQ(f->intrinsics.cy, 121.5);
+  EXPECT_DOUBLE_EQ(focal_px(*f), 291.3);
+}
+
+// A frame whose source set no intrinsics has the Kinect's, scaled to its grid with the
+// pixel centres kept (pixel u of a half-size grid spans the full grid's 2u and 2u + 1).
+TEST(GridIntrinsics, DefaultsScaleToTheFramesResolution) {
+  Frame f;
+  f.width = 640;
+  f.height = 480;
+  EXPECT_DOUBLE_EQ(grid_intrinsics(f).fx, 525.0);
+  EXPECT_DOUBLE_EQ(grid_intrinsics(f).cx, 319.5);
+  f.width = 320;
+  f.height = 240;
+  const CameraIntrinsics half = grid_intrinsics(f);
+  EXPECT_EQ(half.width, 320);
+  EXPECT_EQ(half.height, 240);
+  EXPECT_DOUBLE_EQ(half.fx, 262.5);
+  EXPECT_DOUBLE_EQ(half.fy, 262.5);
+  EXPECT_DOUBLE_EQ(half.cx, 159.5);
+  EXPECT_DOUBLE_EQ(half.cy, 119.5);
+  EXPECT_DOUBLE_EQ(focal_px(f), 262.5);
+  f.intrinsics = {320, 240, 300, 301, 160, 120};  // carried at the grid's size: as is
+  EXPECT_DOUBLE_EQ(grid_intrinsics(f).fx, 300);
+  EXPECT_DOUBLE_EQ(grid_intrinsics(f).cy, 120);
+}
+
 TEST(DepthToFrame, TiltedPlaneAndSphereComeBackOnTheirSurfaces) {
   // Depth of each pixel's ray against a sphere (centre (0.1, -0.05, 1.5), r 0.25) in
   // front of a tilted plane z = 2 + 0.5 y, rounded to millimetres as a sensor does.

@@ -228,5 +228,48 @@ TEST_F(PcdIoTest, CorruptLzfStreamsAreErrorsNotCrashes) {
   }
 }
 
+// A PCD stores points, not the camera: the decoder recovers the pinhole an organized
+// cloud was back-projected with, so pixel-size rules count with its focal length.
+TEST_F(PcdIoTest, RecoversTheIntrinsicsAnOrganizedCloudFollows) {
+  const CameraIntrinsics k{320, 240, 290.0, 291.0, 161.0, 118.5};
+  Frame f;
+  f.width = k.width;
+  f.height = k.height;
+  for (int v = 0; v < k.height; ++v)
+    for (int u = 0; u < k.width; ++u) {
+      const double z = 1.0 + 0.002 * u + 0.001 * v;  // a tilted wall, every pixel seen
+      f.points.push_back({float((u - k.cx) / k.fx * z), float((v - k.cy) / k.fy * z), float(z)});
+    }
+  const Result<Frame> back = decode_pcd(pcd_bytes(f), "camera.pcd");
+  ASSERT_TRUE(back) << back.error().format();
+  EXPECT_NEAR(back->intrinsics.fx, k.fx, 0.05);
+  EXPECT_NEAR(back->intrinsics.fy, k.fy, 0.05);
+  EXPECT_NEAR(back->intrinsics.cx, k.cx, 0.05);
+  EXPECT_NEAR(back->intrinsics.cy, k.cy, 0.05);
+  EXPECT_EQ(back->intrinsics.width, k.width);
+  EXPECT_EQ(back->intrinsics.height, k.height);
+  EXPECT_NEAR(focal_px(*back), k.fx, 0.05);
+
+  // Points that follow no camera (all on one ray) keep the default, scaled to the grid.
+  for (PointXYZRGB& p : f.points) p = {0.1f, 0.1f, 1.0f};
+  const Result<Frame> lying = decode_pcd(pcd_bytes(f), "lying.pcd");
+  ASSERT_TRUE(lying) << lying.error().format();
+  EXPECT_DOUBLE_EQ(focal_px(*lying), 525.0 / 2);
+}
+
+TEST_F(PcdIoTest, TheNyuFrameReadsWithItsOwnFocalLength) {
+  if (!fs::is_directory(kRealDir))
+    GTEST_SKIP() << "real scans not found at " << kRealDir.string()
+                 << " (the ../shared data directory is not part of the repository)";
+  // NYU Depth v2's Kinect was calibrated at fx 582.6 (its toolbox); the TUM-style
+  // office frame was back-projected with the default 525.
+  const Result<Frame> nyu = read_pcd(kRealDir / "nyu_basement.pcd");
+  const Result<Frame> office = read_pcd(kRealDir / "office1.pcd");
+  ASSERT_TRUE(nyu) << nyu.error().format();
+  ASSERT_TRUE(office) << office.error().format();
+  EXPECT_NEAR(nyu->intrinsics.fx, 582.6, 3);
+  EXPECT_NEAR(office->intrinsics.fx, 525, 5);
+}
+
 }  // namespace
 }  // namespace annex

@@ -227,6 +227,57 @@ TEST(Scanner, EmptyAndAllInvalidFramesAreErrors) {
   EXPECT_NE(b.error().message.find("does not match"), std::string::npos);
 }
 
+// A source that says its camera has no focal length gave pixels that back-project
+// nowhere: an error naming the frame, not a scan counting pixels with it.
+TEST(Scanner, AFrameWhoseCameraHasNoFocalLengthIsAnError) {
+  SyntheticFrame f = synthetic(25);
+  f.frame.index = 7;
+  f.frame.intrinsics.fx = 0;
+  const Result<ScanResult> scan = scan_frame(f.frame);
+  ASSERT_FALSE(scan.ok());
+  EXPECT_NE(scan.error().format().find("frame 7 intrinsics"), std::string::npos)
+      << scan.error().format();
+  EXPECT_NE(scan.error().format().find("fx"), std::string::npos) << scan.error().format();
+}
+
+// Another camera (a quarter of the pixels; NYU's longer focal length; a narrow lens
+// seeing the table from twice as far) sees the same tables: every rule that counts
+// pixels counts with the frame's own focal length, so the objects come out as with
+// the Kinect's 640x480 at 525 pixels.
+TEST(Scanner, OtherCamerasFindWhatTheKinectDoes) {
+  struct Camera {
+    CameraIntrinsics k;
+    double distance_scale;
+  };
+  const Camera cameras[] = {{{320, 240, 262.5, 262.5, 159.5, 119.5}, 1},
+                            {{640, 480, 582.6, 582.2, 313.0, 238.4}, 1},
+                            {{640, 480, 1050, 1050, 319.5, 239.5}, 2}};
+  for (const Camera& camera : cameras) {
+    Accuracy acc;
+    for (std::uint64_t seed = 1; seed <= 15; ++seed) {
+      SyntheticSceneParams p;
+      p.seed = seed;
+      p.camera = camera.k;
+      p.camera_distance_min_m *= camera.distance_scale;
+      p.camera_distance_max_m *= camera.distance_scale;
+      const Result<SyntheticScene> scene = generate_scene(p);
+      ASSERT_TRUE(scene.ok()) << scene.error().format();
+      SyntheticFrame f = render_scene(*scene);
+      f.truth = ground_truth(*scene, &f.frame, &f.labels);
+      ASSERT_DOUBLE_EQ(f.frame.intrinsics.fx, camera.k.fx);
+      const Result<ScanResult> scan = scan_frame(f.frame);
+      ASSERT_TRUE(scan.ok()) << "seed " << seed << ": " << scan.error().format();
+      score_scene(f.truth, *scan, acc);
+    }
+    const std::string what = "fx " + std::to_string(camera.k.fx) + ": " +
+                             std::to_string(acc.correct) + " of " + std::to_string(acc.objects);
+    ASSERT_GE(acc.objects, 40) << what;
+    EXPECT_GE(static_cast<double>(acc.correct) / acc.objects, 0.95) << what;
+    EXPECT_GE(acc.found, acc.objects * 95 / 100) << what;
+    EXPECT_LE(median(acc.size_errors_m), 0.003) << what;
+  }
+}
+
 TEST(Scanner, OverlayHasTheFrameSizeAndEncodesAsPng) {
   const SyntheticFrame f = synthetic(25);
   const Result<ScanResult> scan = scan_frame(f.frame);

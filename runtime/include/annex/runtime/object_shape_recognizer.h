@@ -18,6 +18,9 @@
 namespace annex {
 
 struct ShapeRecognizerParams {
+  // The depth camera's focal length in pixels, not a threshold: a pixel's footprint at
+  // depth z is z / focal_px. The scanner sets it from each frame's intrinsics.
+  double focal_px = CameraIntrinsics{}.fx;
   // Residual tolerance: a point is explained by a shape when its distance to the
   // shape's surface is below max(min_tolerance_m, noise_factor * sigma_z(depth)).
   double min_tolerance_m = 0.004;
@@ -120,10 +123,11 @@ int fitted_parameter_count(const ShapeFit& fit, const Plane& support);
 inline double kinect_sigma_z(double z) { return 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4); }
 
 // The radius the scanner's MLS smooths a point over at depth z with its defaults
-// (scanner.cpp smooth_cluster: 1.2 cm, 3 sigma_z, its window of 6 Kinect pixels):
-// points closer than this share their noise, so they are not independent samples.
-inline double shared_noise_radius_m(double z) {
-  return std::max({0.012, 3 * kinect_sigma_z(z), 6 * z / CameraIntrinsics{}.fx});
+// (scanner.cpp smooth_cluster: 1.2 cm, 3 sigma_z, its window of 6 pixels of a camera
+// with that focal length): points closer than this share their noise, so they are not
+// independent samples.
+inline double shared_noise_radius_m(double z, double focal_px) {
+  return std::max({0.012, 3 * kinect_sigma_z(z), 6 * z / focal_px});
 }
 
 }  // namespace annex
