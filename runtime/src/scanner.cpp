@@ -394,6 +394,23 @@ struct GridCell {
   int x = 0, y = 0;
 };
 
+// Grid steps between a pixel and the neighbours its surface normal is taken from.
+constexpr int kSurfaceNormalSteps = 4;
+
+// The neighbours a pixel's surface normal is taken from, along the row and along the
+// column: the pixel `reach` on, or the one as far back where that one has no depth; -1
+// where neither has. A NaN depth fails `z > 0`.
+inline std::pair<int, int> surface_neighbours(const PointXYZRGB* pts, int i, int x, int y,
+                                              int reach, int w, int h) {
+  const int right = x + reach < w && pts[i + reach].z > 0 ? i + reach
+                    : x >= reach && pts[i - reach].z > 0  ? i - reach
+                                                          : -1;
+  const int down = y + reach < h && pts[i + reach * w].z > 0 ? i + reach * w
+                   : y >= reach && pts[i - reach * w].z > 0  ? i - reach * w
+                                                             : -1;
+  return {right, down};
+}
+
 // Which of `pixels` lie on a surface facing up rather than sideways: the normal through
 // their grid neighbours four grid steps on along the row and the column within 45
 // degrees of `up`, nearer to horizontal than to vertical. Depth noise tilts a far
@@ -401,7 +418,7 @@ struct GridCell {
 // wall's by 45.
 std::vector<char> facing_up(const Frame& f, const std::vector<int>& pixels,
                             const std::vector<GridCell>& cells, int stride, Vec3 up) {
-  const int reach = 4 * stride, w = f.width, h = f.height;
+  const int reach = kSurfaceNormalSteps * stride, w = f.width, h = f.height;
   const float ux = static_cast<float>(up.x), uy = static_cast<float>(up.y), uz = static_cast<float>(up.z);
   std::vector<char> out(pixels.size(), 0);
   const PointXYZRGB* pts = f.points.data();
@@ -410,14 +427,7 @@ std::vector<char> facing_up(const Frame& f, const std::vector<int>& pixels,
   for (size_t k = 0; k < pixels.size(); ++k) {
     const int i = pixels[k], x = cells[k].x * stride, y = cells[k].y * stride;
     const PointXYZRGB& c = pts[i];
-    // Along the row and along the column: from the pixel to its neighbour four grid
-    // steps on, or from the one as far back where that one has no depth.
-    const int right = x + reach < w && pts[i + reach].z > 0 ? i + reach
-                      : x >= reach && pts[i - reach].z > 0  ? i - reach
-                                                            : -1;
-    const int down = y + reach < h && pts[i + reach * w].z > 0 ? i + reach * w
-                     : y >= reach && pts[i - reach * w].z > 0  ? i - reach * w
-                                                               : -1;
+    const auto [right, down] = surface_neighbours(pts, i, x, y, reach, w, h);
     if (right < 0 || down < 0) continue;
     const float ax = pts[right].x - c.x, ay = pts[right].y - c.y, az = pts[right].z - c.z;
     const float bx = pts[down].x - c.x, by = pts[down].y - c.y, bz = pts[down].z - c.z;
@@ -1173,27 +1183,58 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
   return r;
 }
 
+// The mean of the surface's own normals at `pixels` (unit, each turned toward the
+// camera), from the neighbours `reach` pixels on along the row and the column as
+// facing_up reads them; zero when none has both neighbours. Each normal follows the
+// surface the pixel lies on, whatever plane selected it.
+Vec3 mean_surface_normal(const Frame& f, const std::vector<int>& pixels, int reach) {
+  const PointXYZRGB* pts = f.points.data();
+  Vec3 sum{0, 0, 0};
+  for (int i : pixels) {
+    const auto [right, down] =
+        surface_neighbours(pts, i, i % f.width, i / f.width, reach, f.width, f.height);
+    if (right < 0 || down < 0) continue;
+    const Vec3 p = to_vec(pts[i]);
+    const Vec3 n = cross(to_vec(pts[right]) - p, to_vec(pts[down]) - p);
+    const double len = norm(n);
+    if (!(len > 0)) continue;
+    sum = sum + n * ((dot(n, p) < 0 ? 1.0 : -1.0) / len);
+  }
+  return sum;
+}
+
 // Whether a first plane's inliers are a band cut obliquely across a surface steeper
-// than any support (a wall, a wardrobe's front): their least-squares plane faces further
-// than max_plane_angle_deg from up. RANSAC takes a triple's plane when it holds the most
-// inliers; a triple on a wall tilted toward up within the cone holds a strip of the wall
-// as wide as the band allows, which outnumbers a table seen at a grazing angle (unseen
-// 3038: a level camera 25 cm above the table, the wall 2.2 m away, its strips six
-// props). find_plane keeps such a hypothesis unrefined, as its refit leaves the cone;
-// the strip, fitted on its own, is the wall's plane (its width across the band exceeds
-// the depth noise, its spread along the wall's normal does not). A support's inliers fit
-// the support. Every third inlier within the fixed band, as find_plane's refit.
+// than any support (a wall, a wardrobe's front): their least-squares plane, or the mean
+// of the surface normals at them, faces further than max_plane_angle_deg from up.
+// RANSAC takes a triple's plane when it holds the most inliers; a triple on a wall
+// tilted toward up within the cone holds a strip of the wall as wide as the band
+// allows, which outnumbers a table seen at a grazing angle (unseen 3038: a level camera
+// 25 cm above the table, the wall 2.2 m away, its strips six props). find_plane keeps
+// such a hypothesis unrefined, as its refit leaves the cone. The strip fitted on its
+// own is the wall's plane where its width across the band exceeds the depth noise; where
+// the noise is as wide (a wall 2.5 m away cut at 17 degrees: a strip 8 cm tall under
+// 1 cm of noise, unseen rooms 7013) the fit keeps the band's tilt, but the normals the
+// wall's pixels span with their neighbours are the wall's. A support's inliers fit the
+// support and face its way. Every third inlier within the fixed band, as find_plane's refit.
 bool slices_steep_surface(const Frame& f, const std::vector<int>& inliers, const PlaneFit& plane, Vec3 up,
                           const ScanParams& params) {
   std::vector<Vec3> pts;
+  std::vector<int> sample;
   pts.reserve(inliers.size() / 3 + 1);
+  sample.reserve(inliers.size() / 3 + 1);
   for (size_t k = 0; k < inliers.size(); k += 3) {
     const Vec3 p = to_vec(f.points[static_cast<size_t>(inliers[k])]);
-    if (std::abs(dot(plane.n, p) + plane.d) < params.plane_distance_m) pts.push_back(p);
+    if (std::abs(dot(plane.n, p) + plane.d) < params.plane_distance_m)
+      pts.push_back(p), sample.push_back(inliers[k]);
   }
+  const double cos_cone = cos_degrees(params.max_plane_angle_deg);
   const PlaneFit fit = fit_plane(pts);
-  if (!fit.ok) return false;
-  return std::abs(dot(fit.n, up)) < cos_degrees(params.max_plane_angle_deg);
+  if (fit.ok && std::abs(dot(fit.n, up)) < cos_cone) return true;
+  if (!params.first_plane_normals_up) return false;
+  const Vec3 m =
+      mean_surface_normal(f, sample, kSurfaceNormalSteps * std::max(1, params.pixel_stride));
+  const double len = norm(m);
+  return len > 0 && dot(m, up) < cos_cone * len;
 }
 
 }  // namespace

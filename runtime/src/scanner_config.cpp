@@ -43,6 +43,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"camera_tilt_deg", Kind::angle, &p.camera_tilt_deg},
       {"max_plane_angle_deg", Kind::angle, &p.max_plane_angle_deg},
       {"first_plane_fits_up", Kind::flag, nullptr, nullptr, 0, &p.first_plane_fits_up},
+      {"first_plane_normals_up", Kind::flag, nullptr, nullptr, 0, &p.first_plane_normals_up},
       {"plane_distance_m", Kind::positive, &p.plane_distance_m},
       {"plane_noise_factor", Kind::non_negative, &p.plane_noise_factor},
       {"hull_margin_m", Kind::non_negative, &p.hull_margin_m},

@@ -39,6 +39,11 @@ struct ScanParams {
   // tilted into the cone) and leave the search (a level camera seeing a wall behind a
   // table at a grazing angle). false: the RANSAC triple's plane alone (before session 10).
   bool first_plane_fits_up = true;
+  // ... and so does the mean of the surface normals at them (each pixel's normal through
+  // its neighbours): a strip of a wall no taller than the depth noise, cut by a band at a
+  // slant, fits the band's own tilt, but its pixels' normals are the wall's (a level
+  // camera facing a wall 2.5 m away). Asked with first_plane_fits_up only.
+  bool first_plane_normals_up = true;
   // Plane inlier band: this width, or plane_noise_factor times the Kinect's axial
   // noise at the point's depth where that is wider (far floor). Points within the
   // band are never object points.
