@@ -82,6 +82,9 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.range("touching_waist_share", p.touching_waist_share, 0, 1);
   c.positive("touching_min_part_size_m", p.touching_min_part_size_m);
   c.range("min_support_seen_share", p.min_support_seen_share, 0, 1);
+  c.range("grazing_support_deg", p.grazing_support_deg, 0, 45);
+  c.range("grazing_max_seen_share", p.grazing_max_seen_share, 0, 1);
+  c.range("grazing_max_through_share", p.grazing_max_through_share, 0, 1);
   c.non_negative("support_gap_reach_m", p.support_gap_reach_m);
   c.positive("shape.min_tolerance_m", p.shape.min_tolerance_m);
   c.non_negative("shape.noise_factor", p.shape.noise_factor);

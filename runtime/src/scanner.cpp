@@ -1343,6 +1343,51 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
 
 }  // namespace
 
+// Whether `regions` of `plane` are seen from fewer than grazing_support_deg above it:
+// the camera's height over the plane against the regions' mean range.
+bool seen_at_grazing(const Frame& f, const std::vector<PlaneRegions>& regions,
+                     const PlaneFit& plane, const ScanParams& params) {
+  double range = 0;
+  size_t n = 0;
+  for (const PlaneRegions& r : regions)
+    for (int i : r.members) range += norm(to_vec(f.points[static_cast<size_t>(i)])), ++n;
+  if (n == 0 || params.grazing_support_deg <= 0) return false;
+  return plane.d < range / static_cast<double>(n) *
+                       std::sin(params.grazing_support_deg * 3.14159265358979 / 180.0);
+}
+
+// The rays crossing `plane` within the joint hull of `regions`: those that end on it
+// (a point within its band) and those that see past it (a point below it by more than
+// its band), of which those ending on another support (`on_support`, by pixel).
+struct RaysThrough {
+  size_t on = 0, through = 0, through_support = 0;
+};
+
+RaysThrough rays_through(const Frame& f, const std::vector<PlaneRegions>& regions,
+                         const PlaneFit& plane, const std::vector<char>& on_support,
+                         const ScanParams& params) {
+  std::vector<Vec3> hull_points;
+  for (const PlaneRegions& r : regions)
+    hull_points.insert(hull_points.end(), r.hull_points.begin(), r.hull_points.end());
+  const Hull2 hull = convex_hull(hull_points, plane.n);
+  const int stride = std::max(1, params.pixel_stride);
+  RaysThrough rays;
+  for (int y = 0; y < f.height; y += stride)
+    for (int x = 0; x < f.width; x += stride) {
+      const size_t i = static_cast<size_t>(y) * f.width + x;
+      if (!has_depth(f.points[i])) continue;
+      const Vec3 p = to_vec(f.points[i]);
+      const double h = dot(plane.n, p) + plane.d, band = plane_band(params, p.z);
+      if (std::abs(h) < band) {
+        rays.on += hull.contains(p);
+      } else if (h < -band && hull.contains(p * (-plane.d / dot(plane.n, p)))) {
+        ++rays.through;
+        rays.through_support += on_support[i] != 0;
+      }
+    }
+  return rays;
+}
+
 // Every support: planes extracted one after another, each one's inliers leaving the
 // search. A plane counts when its kept regions hold min_plane_points. Kept out of line
 // so the plane stage shows on its own in a profile.
@@ -1573,29 +1618,68 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
   size_t lowest_plane = 0;
   for (size_t k = 1; k < planes.size(); ++k)
     if (planes[k].first.d > planes[lowest_plane].first.d) lowest_plane = k;
+  auto one_support = [&](const PlaneFit& plane, const std::vector<PlaneRegions>& regions) {
+    Found fd;
+    fd.plane = plane;
+    for (const PlaneRegions& r : regions) {
+      fd.regions.members.insert(fd.regions.members.end(), r.members.begin(), r.members.end());
+      fd.regions.hull_points.insert(fd.regions.hull_points.end(), r.hull_points.begin(),
+                                    r.hull_points.end());
+      fd.regions.touches_bottom = fd.regions.touches_bottom || r.touches_bottom;
+    }
+    fd.points = static_cast<int>(fd.regions.members.size()) * stride * stride;
+    found.push_back(std::move(fd));
+  };
+  // Whether plane k's regions, joined, hide what lies below them: fewer than
+  // grazing_max_through_share of the rays crossing their hull see past it, and no more
+  // than a support's smallest region of them end on another support.
+  auto hides_below = [&](size_t k) {
+    std::vector<char> on_support(f.points.size(), 0);
+    for (size_t o = 0; o < planes.size(); ++o)
+      if (o != k)
+        for (const PlaneRegions& r : planes[o].second)
+          for (int i : r.members) on_support[static_cast<size_t>(i)] = 1;
+    const RaysThrough rays = rays_through(f, planes[k].second, planes[k].first, on_support, params);
+    return static_cast<double>(rays.through) <
+               params.grazing_max_through_share * static_cast<double>(rays.on + rays.through) &&
+           static_cast<long long>(rays.through_support) * stride * stride <
+               params.min_plane_points / 4;
+  };
   for (size_t k = 0; k < planes.size(); ++k) {
     auto& [plane, regions] = planes[k];
     if (k == lowest_plane) {
-      Found fd;
-      fd.plane = plane;
-      for (PlaneRegions& r : regions) {
-        fd.regions.members.insert(fd.regions.members.end(), r.members.begin(), r.members.end());
-        fd.regions.hull_points.insert(fd.regions.hull_points.end(), r.hull_points.begin(),
-                                      r.hull_points.end());
-        fd.regions.touches_bottom = fd.regions.touches_bottom || r.touches_bottom;
-      }
-      fd.points = static_cast<int>(fd.regions.members.size()) * stride * stride;
-      found.push_back(std::move(fd));
+      one_support(plane, regions);
       continue;
     }
+    // Each region's part seen from above, kept as a support where it holds one and
+    // spans min_support_area_m2.
+    std::vector<PlaneRegions> above;
+    std::vector<char> holds;
+    size_t members = 0, seen = 0;
     for (const PlaneRegions& region : regions) {
+      above.push_back(seen_from_above(f, region, plane, params));
+      const PlaneRegions& a = above.back();
+      holds.push_back(holds_support(f, a.members, plane, params) &&
+                      hull_area(convex_hull(a.hull_points, plane.n)) >= params.min_support_area_m2);
+      members += region.members.size();
+      seen += a.members.size();
+    }
+    // A support seen at grazing incidence, its edges in more of its pixels than its
+    // surface, is one support of all its regions, as the floor (grazing_support_deg):
+    // where a patch of it returned, the rest is there too, if it hides what lies below.
+    const bool some_support = std::find(holds.begin(), holds.end(), 1) != holds.end();
+    if (some_support &&
+        static_cast<double>(seen) < params.grazing_max_seen_share * static_cast<double>(members) &&
+        seen_at_grazing(f, regions, plane, params) && hides_below(k)) {
+      one_support(plane, regions);
+      continue;
+    }
+    for (size_t r = 0; r < above.size(); ++r) {
+      if (!holds[r]) continue;
       Found fd;
       fd.plane = plane;
-      fd.regions = seen_from_above(f, region, plane, params);
+      fd.regions = std::move(above[r]);
       fd.points = static_cast<int>(fd.regions.members.size()) * stride * stride;
-      if (!holds_support(f, fd.regions.members, plane, params)) continue;
-      if (hull_area(convex_hull(fd.regions.hull_points, fd.plane.n)) < params.min_support_area_m2)
-        continue;
       found.push_back(std::move(fd));
     }
   }

@@ -78,6 +78,24 @@ struct ScanParams {
   // for a table a metre away. Half: the objects on a board hide part of it, and the
   // hull (min_support_area_m2) still bounds the whole support. 0: the count alone.
   double min_support_seen_share = 0.5;
+  // A later support seen from fewer degrees above its plane than this (the camera's
+  // height over it against its regions' mean range) is one support of all its regions,
+  // as the floor is: at that incidence the Kinect's pattern returns too little from
+  // the surface itself (a table top seen level from 26 cm above, 2 m away), so only its
+  // edges are seen (its front face, the strip its band cuts across the wall behind it)
+  // and its per-region supports are the few patches that returned. 0: off.
+  double grazing_support_deg = 10;
+  // ... when less than this share of its regions' pixels is seen from above (its
+  // edges, not its surface, make up most of it): a board or box top seen at that
+  // angle whose surface does return keeps a support per region.
+  double grazing_max_seen_share = 0.5;
+  // ... and when fewer than this share of the rays crossing the regions' joint hull see
+  // past the plane, and no more than a support's smallest region of them end on another
+  // support: a surface hides what lies below it. A table top seen level from 26 cm
+  // above has only the wall just below its height behind its far edge (18 to 25 % of the
+  // rays); a desk and a cabinet top at one height across a room have the floor between
+  // them (office1, 74 %). Half: most of what lies behind a surface is hidden by it.
+  double grazing_max_through_share = 0.5;
   // Supports whose nearest point is farther from the camera are not used.
   double support_reach_m = 3.5;
   // Whose objects are reported: every support within reach (all), or only the
