@@ -670,27 +670,34 @@ Candidate cone_from_parameters(const Candidate& span_ref, const std::array<doubl
 // straight line through radius against height, sigma_z / sqrt(n var(t)). The scanner
 // smooths each point over its neighbours within shared_noise_radius_m, so points that
 // close share their noise: n counts each side point one over the number of side points
-// in its neighbourhood (as independent_points does), each of sigma_z at its depth.
+// in its neighbourhood (as independent_points does), each of sigma_z at its depth. The
+// count is estimated on an even sample of at most kTaperSample points against as many
+// (a few thousand distances, not the side's square).
 double taper_error(const Samples& s, const std::vector<int>& idx, double h0, double span,
                    double focal_px) {
+  constexpr size_t kTaperSample = 64;
   if (idx.size() < 3) return 0;
-  const size_t stride = std::max<size_t>(1, idx.size() / 200);
-  double n = 0, var_z = 0, st = 0, stt = 0;
+  const size_t stride = std::max<size_t>(1, idx.size() / kTaperSample);
+  double share = 0, var_z = 0, st = 0, stt = 0;
+  size_t sampled = 0;
   for (size_t i = 0; i < idx.size(); ++i) {
     const Vec3& p = s.xyz[idx[i]];
-    const double z = std::abs(p.z), r = shared_noise_radius_m(z, focal_px);
-    size_t near = 0;
-    for (size_t j = i % stride; j < idx.size(); j += stride) {
-      const Vec3 d = s.xyz[idx[j]] - p;
-      near += dot(d, d) < r * r;
-    }
-    n += 1.0 / static_cast<double>(std::max<size_t>(near * stride, 1));
-    const double sz = kinect_sigma_z(z), t = (s.p[idx[i]].h - h0) / span;
+    const double z = std::abs(p.z), sz = kinect_sigma_z(z), t = (s.p[idx[i]].h - h0) / span;
     var_z += sz * sz;
     st += t;
     stt += t * t;
+    if (i % stride != 0) continue;
+    const double r = shared_noise_radius_m(z, focal_px);
+    size_t near = 0;
+    for (size_t j = 0; j < idx.size(); j += stride) {  // i itself among them
+      const Vec3 d = s.xyz[idx[j]] - p;
+      near += dot(d, d) < r * r;
+    }
+    share += 1.0 / static_cast<double>(std::max<size_t>(near * stride, 1));
+    ++sampled;
   }
   const double m = static_cast<double>(idx.size());
+  const double n = share * m / static_cast<double>(std::max<size_t>(sampled, 1));
   const double var_t = std::max(stt / m - (st / m) * (st / m), 1e-12);
   return std::sqrt(var_z / m / (std::max(n, 1.0) * var_t));
 }
