@@ -59,7 +59,8 @@ int read_as(ShapeKind kind, const SyntheticObject& object, int n, double doubt) 
   params.shape.cone_taper_doubt = doubt;
   int right = 0;
   for (int seed = 1; seed <= n; ++seed) {
-    const std::optional<PhysicalObject> o = scan_one(object, 1.9, 25, static_cast<std::uint64_t>(seed), params);
+    const std::optional<PhysicalObject> o =
+        scan_one(object, 1.9, 25, static_cast<std::uint64_t>(seed), params);
     right += o && !o->primitives.empty() && o->primitives[0].kind == kind;
   }
   return right;
@@ -71,7 +72,8 @@ int read_as(ShapeKind kind, const SyntheticObject& object, int n, double doubt) 
 TEST(ShapeTaperDoubt, BowlAtTheLeastTaperNearTwoMetresIsACone) {
   constexpr int kScenes = 6;
   const SyntheticObject b = bowl(0.08, 0.09, 0.75);
-  const int with_doubt = read_as(ShapeKind::cone, b, kScenes, ShapeRecognizerParams{}.cone_taper_doubt);
+  const int with_doubt =
+      read_as(ShapeKind::cone, b, kScenes, ShapeRecognizerParams{}.cone_taper_doubt);
   const int without = read_as(ShapeKind::cone, b, kScenes, 0.0);
   EXPECT_GE(with_doubt, kScenes - 1);
   EXPECT_LE(without, 1);
@@ -82,7 +84,8 @@ TEST(ShapeTaperDoubt, BowlAtTheLeastTaperNearTwoMetresIsACone) {
 TEST(ShapeTaperDoubt, TinOfTheSameSizeStaysACylinder) {
   constexpr int kScenes = 6;
   const SyntheticObject tin = resting_object(ShapeKind::cylinder, {0.08, 0.09}, 0, 0);
-  EXPECT_EQ(read_as(ShapeKind::cylinder, tin, kScenes, ShapeRecognizerParams{}.cone_taper_doubt), kScenes);
+  EXPECT_EQ(read_as(ShapeKind::cylinder, tin, kScenes, ShapeRecognizerParams{}.cone_taper_doubt),
+            kScenes);
 }
 
 }  // namespace
