@@ -640,9 +640,13 @@ Candidate fit_cylinder(const Samples& s, const std::vector<int>& subset, double 
 }
 
 // The cone of parameters x (axis a, b; radius at base and top) over span_ref's heights:
-// valid when it narrows (or widens) clearly.
+// valid when it narrows (or widens) clearly: by min_cone_taper of its wide radius, or
+// short of it by no more than cone_taper_doubt standard errors of the measured narrowing
+// (taper_error(), asked only then): a frustum as tapered as that measures, through the
+// noise, as often under it as over it.
+template <typename TaperError>
 Candidate cone_from_parameters(const Candidate& span_ref, const std::array<double, 4>& x,
-                               const ShapeRecognizerParams& params) {
+                               const ShapeRecognizerParams& params, TaperError taper_error) {
   Candidate c = span_ref;
   c.ca = x[0];
   c.cb = x[1];
@@ -655,9 +659,47 @@ Candidate cone_from_parameters(const Candidate& span_ref, const std::array<doubl
     c.r1 = 0;
   }
   const double wide = std::max(c.r0, c.r1), narrow = std::min(c.r0, c.r1);
-  c.valid = wide >= params.min_radius_m && wide <= params.max_radius_m &&
-            wide - narrow >= params.min_cone_taper * wide && wide - narrow > 0.008;
+  c.valid = wide >= params.min_radius_m && wide <= params.max_radius_m && wide - narrow > 0.008 &&
+            (wide - narrow >= params.min_cone_taper * wide ||
+             wide - narrow >= params.min_cone_taper * wide - params.cone_taper_doubt * taper_error());
   return c;
+}
+
+// The standard error of a cone's narrowing (radius at the top less radius at the base)
+// fitted over the side points idx, their heights normalised by span: the slope of a
+// straight line through radius against height, sigma_z / sqrt(n var(t)). The scanner
+// smooths each point over its neighbours within shared_noise_radius_m, so points that
+// close share their noise: n counts each side point one over the number of side points
+// in its neighbourhood (as independent_points does), each of sigma_z at its depth. The
+// count is estimated on an even sample of at most kTaperSample points against as many
+// (a few thousand distances, not the side's square).
+double taper_error(const Samples& s, const std::vector<int>& idx, double h0, double span,
+                   double focal_px) {
+  constexpr size_t kTaperSample = 64;
+  if (idx.size() < 3) return 0;
+  const size_t stride = std::max<size_t>(1, idx.size() / kTaperSample);
+  double share = 0, var_z = 0, st = 0, stt = 0;
+  size_t sampled = 0;
+  for (size_t i = 0; i < idx.size(); ++i) {
+    const Vec3& p = s.xyz[idx[i]];
+    const double z = std::abs(p.z), sz = kinect_sigma_z(z), t = (s.p[idx[i]].h - h0) / span;
+    var_z += sz * sz;
+    st += t;
+    stt += t * t;
+    if (i % stride != 0) continue;
+    const double r = shared_noise_radius_m(z, focal_px);
+    size_t near = 0;
+    for (size_t j = 0; j < idx.size(); j += stride) {  // i itself among them
+      const Vec3 d = s.xyz[idx[j]] - p;
+      near += dot(d, d) < r * r;
+    }
+    share += 1.0 / static_cast<double>(std::max<size_t>(near * stride, 1));
+    ++sampled;
+  }
+  const double m = static_cast<double>(idx.size());
+  const double n = share * m / static_cast<double>(std::max<size_t>(sampled, 1));
+  const double var_t = std::max(stt / m - (st / m) * (st / m), 1e-12);
+  return std::sqrt(var_z / m / (std::max(n, 1.0) * var_t));
 }
 
 // Whether a fitted cone is wider than its points: its widest section seen (a bowl's
@@ -783,14 +825,19 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
     return shape_residuals::cone(p, q.a, q.b, (q.h - span_ref.h0) / span, span, terms, g);
   };
   refine_sampled<4>(x, static_cast<int>(idx.size()), tol, residual, params.refine_sample_points);
-  c = cone_from_parameters(span_ref, x, params);
+  double taper_se = -1;  // counted once, when first asked
+  const auto error = [&] {
+    if (taper_se < 0) taper_se = taper_error(s, idx, span_ref.h0, span, params.focal_px);
+    return taper_se;
+  };
+  c = cone_from_parameters(span_ref, x, params, error);
   // Started from a poor cylinder (a flat bowl seen from the side), the fit can run off
   // to a cone wider than any of its points: a second start from the footprint's circle.
   if (cone_wider_than_its_points(s, subset, c)) {
     std::array<double, 4> y{};
     if (cone_start_from_footprint(s, subset, idx, span_ref.h0, span, y)) {
       refine_sampled<4>(y, static_cast<int>(idx.size()), tol, residual, params.refine_sample_points);
-      Candidate second = cone_from_parameters(span_ref, y, params);
+      Candidate second = cone_from_parameters(span_ref, y, params, error);
       if (second.valid && !cone_wider_than_its_points(s, subset, second)) {
         if (c.valid) {
           evaluate(c, s);

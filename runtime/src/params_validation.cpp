@@ -93,6 +93,7 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.positive("shape.min_radius_m", p.shape.min_radius_m);
   c.range("shape.max_radius_m", p.shape.max_radius_m, p.shape.min_radius_m, INFINITY);
   c.range("shape.min_cone_taper", p.shape.min_cone_taper, 0, 1);
+  c.non_negative("shape.cone_taper_doubt", p.shape.cone_taper_doubt);
   c.range("shape.min_secondary_share", p.shape.min_secondary_share, 0, 1);
   c.non_negative("shape.side_shape_penalty", p.shape.side_shape_penalty);
   c.at_least("shape.max_fit_points", p.shape.max_fit_points, 10);

@@ -107,6 +107,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"shape_min_radius_m", Kind::positive, &p.shape.min_radius_m},
       {"shape_max_radius_m", Kind::positive, &p.shape.max_radius_m},
       {"shape_min_cone_taper", Kind::unit_share, &p.shape.min_cone_taper},
+      {"shape_cone_taper_doubt", Kind::non_negative, &p.shape.cone_taper_doubt},
       {"shape_min_secondary_share", Kind::unit_share, &p.shape.min_secondary_share},
       {"shape_side_shape_penalty", Kind::unit_share, &p.shape.side_shape_penalty},
       {"shape_sphere_cap_depth_share", Kind::non_negative, &p.shape.sphere_cap_depth_share},

@@ -35,6 +35,10 @@ struct ShapeRecognizerParams {
   double max_radius_m = 0.5;
   // A cone must narrow by at least this share of its base radius, else it is a cylinder.
   double min_cone_taper = 0.25;
+  // ... or short of it by at most this many standard errors of the measured narrowing
+  // (the slope of radius against height over the side's independent points, each of
+  // sigma_z): a frustum tapering by min_cone_taper measures under it half the time.
+  double cone_taper_doubt = 2.0;
   // A secondary primitive must explain this share of the points the salient one misses
   // and at least this share of all points.
   double min_secondary_share = 0.12;
