@@ -96,8 +96,42 @@ bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
 
 bool foot_hidden_high(const Frame& f, const std::vector<int>& grid, int step, double bottom_h,
                       const ScanParams& params, const ToleranceAt& tolerance) {
-  return params.hidden_foot_min_height_m > 0 && bottom_h > params.hidden_foot_min_height_m &&
-         end_hidden(f, grid, step, tolerance, false);
+  if (!(params.hidden_foot_min_height_m > 0 && bottom_h > params.hidden_foot_min_height_m)) return false;
+  if (!params.partial_when_seen_under) return end_hidden(f, grid, step, tolerance, false);
+  // Hidden or seen under: either way nothing at the foot's depth holds it up.
+  const FootView v = foot_view(f, grid, step, tolerance);
+  return v.columns >= 3 && 2 * (v.nearer + v.farther) > v.columns;
+}
+
+FootView foot_view(const Frame& f, const std::vector<int>& grid, int step, const ToleranceAt& tolerance) {
+  const std::map<int, int> ends = end_per_column(f, grid, false);
+  FootView v;
+  v.columns = static_cast<int>(ends.size());
+  const int row = step * f.width;
+  const int count = static_cast<int>(f.points.size());
+  for (const auto& [col, i] : ends) {
+    const double z = f.points[static_cast<size_t>(i)].z;
+    for (int r = 1; r <= 3; ++r) {
+      const int j = i + r * row;
+      if (j >= count) break;
+      const PointXYZRGB& q = f.points[static_cast<size_t>(j)];
+      if (!has_depth(q)) continue;  // a dropout: look one row on
+      v.nearer += q.z < z - tolerance(z);
+      v.farther += q.z > z + tolerance(z);
+      break;
+    }
+  }
+  return v;
+}
+
+bool hangs_seen_under(const Frame& f, const std::vector<int>& grid, int step, Vec3 n, double d, Vec3 low,
+                      double low_h, double width, const ToleranceAt& tolerance) {
+  // The view's slope at the lowest point: the camera's height over the support less the
+  // point's, over the point's run along the plane from the camera's foot.
+  const double run = norm(low - n * dot(n, low));
+  if (!(run > 0) || !(low_h > width * (d - low_h) / run)) return false;
+  const FootView v = foot_view(f, grid, step, tolerance);
+  return v.columns >= 3 && 2 * v.farther > v.columns;
 }
 
 bool upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up, const ScanParams& params) {
@@ -179,3 +213,4 @@ bool foot_cut_by_bottom(const Frame& f, const std::vector<int>& pixels, int bott
 }
 
 }  // namespace annex
+

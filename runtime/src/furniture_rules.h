@@ -44,9 +44,36 @@ bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
 // below its lowest pixel is nearer than that pixel by more than the tolerance. No one
 // sees what holds it up there, at furniture height: a chair's seat behind its own back
 // seen from behind, a seat or board behind the table's top. Flagged partial, as a
-// cluster whose top is hidden is.
+// cluster whose top is hidden is. With params.partial_when_seen_under, columns where the
+// view passes under it (foot_view: farther) count as well: hidden or seen under, nothing
+// at the foot's depth holds it up (a back chair's seat seen from just above it, the floor
+// beyond it showing under its edge beside the back that hides the rest).
 bool foot_hidden_high(const Frame& f, const std::vector<int>& grid, int step, double bottom_h,
                       const ScanParams& params, const ToleranceAt& tolerance);
+
+// What lies one to three grid rows below the cluster's lowest pixel in each of its grid
+// columns: the first valid pixel nearer to the camera than that pixel by more than the
+// tolerance (something in front hides the foot), or farther by as much (the view passes
+// under the cluster to what lies behind it).
+struct FootView {
+  int columns = 0, nearer = 0, farther = 0;
+};
+FootView foot_view(const Frame& f, const std::vector<int>& grid, int step, const ToleranceAt& tolerance);
+
+// Whether the cluster hangs over its support with nothing of its own under it: the view
+// passes under it (the first valid pixel below its lowest one lies farther, foot_view, in
+// more than half of its grid columns) and its lowest point `low`, `low_h` above the
+// support (n . p + d), lies higher than a body hidden beneath it could reach down from
+// it. What stands on a support shows its foot there, or hides it in its own shadow along
+// the view: a bowl wide end up seen from above hides its foot under its rim. That shadow
+// reaches below the lowest point at most the cluster's depth times the view's slope
+// there (its tangent: the camera's height over the support less the point's, over the
+// point's run along the plane), the depth taken as its `width` across the view (a prop
+// is about as deep as it is wide). A shelf's board 25 cm up on side panels outside the
+// cluster, or a lamp's head on its arm, hangs higher than that: no one sees what holds
+// it up (params.partial_when_seen_under).
+bool hangs_seen_under(const Frame& f, const std::vector<int>& grid, int step, Vec3 n, double d, Vec3 low,
+                      double low_h, double width, const ToleranceAt& tolerance);
 
 // Whether the cluster's foot is not seen on its support: in more than half of the grid
 // columns that show anything below its lowest pixel, the first valid pixel one to three

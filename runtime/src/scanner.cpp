@@ -2139,13 +2139,14 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // but its full width.
     const Vec3 view_x = normalized(Vec3{1, 0, 0} - plane.n * plane.n.x);
     double x_lo = 1e9, x_hi = -1e9, top_h = -1e9, bottom_h = 1e9, top_z = 0;
+    Vec3 low{0, 0, 0};  // its lowest point
     for (int i : grid) {
       const Vec3 p = to_vec(f.points[i]);
       x_lo = std::min(x_lo, dot(view_x, p));
       x_hi = std::max(x_hi, dot(view_x, p));
       const double h = dot(plane.n, p) + plane.d;
       if (h > top_h) top_h = h, top_z = p.z;
-      bottom_h = std::min(bottom_h, h);
+      if (h < bottom_h) bottom_h = h, low = p;
     }
     const double width = x_hi - x_lo;
     // It spans down to its support: its lower half is seen.
@@ -2265,7 +2266,11 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // behind the table, a cabinet's side): neither its depth nor its foot is seen.
     const bool panel = upright_panel(f, grid, plane.n, params) &&
                        foot_unseen(f, grid, stride, surface_of, k);
-    accepted.push_back({&grid, k, min_points, top_hidden || panel || foot_hidden});
+    // Seen under, hanging higher than anything of its own hidden beneath it could hold it
+    // (a shelf's board on side panels outside the cluster, a lamp's head on its arm).
+    const bool hanging = params.partial_when_seen_under &&
+                         hangs_seen_under(f, grid, stride, plane.n, plane.d, low, bottom_h, width, tolerance);
+    accepted.push_back({&grid, k, min_points, top_hidden || panel || foot_hidden || hanging});
   }
   // Touching objects apart at the creases and depth steps between them (the parts are
   // kept in cluster order). The regions grow with the tolerance the clustering used at

@@ -158,6 +158,14 @@ struct ScanParams {
   // prop behind a nearer one shows its upper part from lower down (furniture_rules.h,
   // foot_hidden_high). 0: off.
   double hidden_foot_min_height_m = 0.3;
+  // A cluster the view passes under (below its lowest pixel, in most of its columns, lies
+  // something farther) whose lowest point is higher above its support than its own
+  // shadow along the view reaches (its width times the view's slope there) is flagged
+  // partial: nothing of its own holds it up, and no one sees what does (a shelf's board
+  // 25 cm up in front of the wall, a desk lamp's head). A bowl wide end up hides its foot
+  // in that shadow and stays whole. Also counts such columns with the hidden ones in
+  // hidden_foot_min_height_m's rule (furniture_rules.h, hangs_seen_under). false: off.
+  bool partial_when_seen_under = true;
   // A cluster that is one upright flat face, spread along its normal by at most this
   // many times the Kinect's axial noise at its depth, whose lower end something nearer
   // hides, is flagged partial: a chair's back or a cabinet's side rising behind the
