@@ -30,6 +30,12 @@ ScanParams alone() {
   // by its pixels alone. Far boards found by their area (session 9) hold what was the
   // wall's slice under them in rooms 5073 and 7014, and no rule is needed there.
   p.min_support_seen_share = 0;
+  // Nor does what the view passes under become partial, nor is a plane seen at grazing
+  // incidence one support of its regions (session 15): with the rule under test off, the
+  // grazing support takes one slice of 5005/5009/5077/3004's wardrobes and of the chair
+  // backs' seeds, and each rule here is weighed alone.
+  p.partial_when_seen_under = false;
+  p.grazing_support_deg = 0;
   return p;
 }
 
