@@ -63,57 +63,21 @@ bool top_cut_by_band(const Frame& f, const std::vector<int>& grid, int step, Vec
 
 namespace {
 
-// Whether something nearer hides the cluster's top (`top`) or foot: in more than half of
-// its grid columns the first valid pixel one to three grid rows beyond its end pixel is
-// nearer to the camera than that pixel by more than the tolerance.
-bool end_hidden(const Frame& f, const std::vector<int>& grid, int step,
-                const ToleranceAt& tolerance, bool top) {
+// What lies one to three grid rows beyond the cluster's end pixel in each of its grid
+// columns, above its top (`top`) or below its foot: the first valid pixel nearer to the
+// camera than that pixel by more than the tolerance, or farther by as much.
+FootView end_view(const Frame& f, const std::vector<int>& grid, int step,
+                  const ToleranceAt& tolerance, bool top) {
   const std::map<int, int> ends = end_per_column(f, grid, top);
-  if (ends.size() < 3) return false;
-  const int row = (top ? -step : step) * f.width;
-  const int count = static_cast<int>(f.points.size());
-  size_t hidden = 0;
-  for (const auto& [col, i] : ends) {
-    const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
-    for (int r = 1; r <= 3; ++r) {
-      const int j = i + r * row;
-      if (j < 0 || j >= count) break;
-      const PointXYZRGB& q = f.points[static_cast<size_t>(j)];
-      if (!has_depth(q)) continue;
-      hidden += q.z < p.z - tolerance(p.z);
-      break;
-    }
-  }
-  return 2 * hidden > ends.size();
-}
-
-}  // namespace
-
-bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
-                  const ToleranceAt& tolerance) {
-  return end_hidden(f, grid, step, tolerance, true);
-}
-
-bool foot_hidden_high(const Frame& f, const std::vector<int>& grid, int step, double bottom_h,
-                      const ScanParams& params, const ToleranceAt& tolerance) {
-  if (!(params.hidden_foot_min_height_m > 0 && bottom_h > params.hidden_foot_min_height_m)) return false;
-  if (!params.partial_when_seen_under) return end_hidden(f, grid, step, tolerance, false);
-  // Hidden or seen under: either way nothing at the foot's depth holds it up.
-  const FootView v = foot_view(f, grid, step, tolerance);
-  return v.columns >= 3 && 2 * (v.nearer + v.farther) > v.columns;
-}
-
-FootView foot_view(const Frame& f, const std::vector<int>& grid, int step, const ToleranceAt& tolerance) {
-  const std::map<int, int> ends = end_per_column(f, grid, false);
   FootView v;
   v.columns = static_cast<int>(ends.size());
-  const int row = step * f.width;
+  const int row = (top ? -step : step) * f.width;
   const int count = static_cast<int>(f.points.size());
   for (const auto& [col, i] : ends) {
     const double z = f.points[static_cast<size_t>(i)].z;
     for (int r = 1; r <= 3; ++r) {
       const int j = i + r * row;
-      if (j >= count) break;
+      if (j < 0 || j >= count) break;
       const PointXYZRGB& q = f.points[static_cast<size_t>(j)];
       if (!has_depth(q)) continue;  // a dropout: look one row on
       v.nearer += q.z < z - tolerance(z);
@@ -122,6 +86,32 @@ FootView foot_view(const Frame& f, const std::vector<int>& grid, int step, const
     }
   }
   return v;
+}
+
+// Whether something nearer hides the cluster's end in more than half of its columns.
+bool end_hidden(const FootView& v) {
+  return v.columns >= 3 && 2 * v.nearer > v.columns;
+}
+
+}  // namespace
+
+bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
+                  const ToleranceAt& tolerance) {
+  return end_hidden(end_view(f, grid, step, tolerance, true));
+}
+
+bool foot_hidden_high(const Frame& f, const std::vector<int>& grid, int step, double bottom_h,
+                      const ScanParams& params, const ToleranceAt& tolerance) {
+  if (!(params.hidden_foot_min_height_m > 0 && bottom_h > params.hidden_foot_min_height_m))
+    return false;
+  const FootView v = foot_view(f, grid, step, tolerance);
+  if (!params.partial_when_seen_under) return end_hidden(v);
+  // Hidden or seen under: either way nothing at the foot's depth holds it up.
+  return v.columns >= 3 && 2 * (v.nearer + v.farther) > v.columns;
+}
+
+FootView foot_view(const Frame& f, const std::vector<int>& grid, int step, const ToleranceAt& tolerance) {
+  return end_view(f, grid, step, tolerance, false);
 }
 
 bool hangs_seen_under(const Frame& f, const std::vector<int>& grid, int step, Vec3 n, double d, Vec3 low,

@@ -97,6 +97,9 @@ size_t in_bands(size_t n, size_t min_band, F&& body) {
 }
 
 double cos_degrees(double deg) { return std::cos(deg * 3.14159265358979 / 180.0); }
+double sin_degrees(double deg) {
+  return std::sin(deg * 3.14159265358979 / 180.0);
+}
 
 struct PlaneFit {
   Vec3 n;
@@ -1352,8 +1355,7 @@ bool seen_at_grazing(const Frame& f, const std::vector<PlaneRegions>& regions,
   for (const PlaneRegions& r : regions)
     for (int i : r.members) range += norm(to_vec(f.points[static_cast<size_t>(i)])), ++n;
   if (n == 0 || params.grazing_support_deg <= 0) return false;
-  return plane.d < range / static_cast<double>(n) *
-                       std::sin(params.grazing_support_deg * 3.14159265358979 / 180.0);
+  return plane.d < range / static_cast<double>(n) * sin_degrees(params.grazing_support_deg);
 }
 
 // The rays crossing `plane` within the joint hull of `regions`: those that end on it
