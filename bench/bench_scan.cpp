@@ -8,13 +8,14 @@
 //   world     the widened generator: class, size, support and cone direction per
 //             distance band, a confusion matrix per shape, false props and slivers.
 // Usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N]
-//        [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] [--pool-per-scan]
-//        [--verbose] [--png-dir DIR]
+//        [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only]
+//        [--pool-per-scan] [--verbose] [--png-dir DIR]
 //        (--repeat: our scans per frame, 30; --pcl-repeat: PCL's, interleaved with ours,
 //        default max(5, repeat / 3); --threads: our worker threads, 2; --speed-only: the
 //        speed section alone, e.g. under callgrind; --pool-per-scan: every scan starts its
-//        own worker threads (scan_frame without ScanWorkers, as before session 8); --verbose: every world-set miss,
-//        misclassification, leg and sliver; --png-dir: the world scenes' pictures, frames;
+//        own worker threads (scan_frame without ScanWorkers, as before session 8); --verbose: every
+//        world-set miss, misclassification, leg and sliver; --png-dir: the world scenes' pictures,
+//        frames and truth (.truth.scene);
 //        --world-seed: the world set's first seed, 2001: the tuned set; 5001: held out;
 //        --rooms: room_scene_params, table heights 0.4-1.1 m, a rolled camera, chairs,
 //        shelves and objects on their boards, objects on the floor, touching, across a table
@@ -33,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "annex/formats/scene_format.h"
 #include "annex/reference/object_shape_recognizer_cgal.h"
 #include "annex/reference/scanner_pcl_reference.h"
 #include "annex/runtime/object_shape_recognizer.h"
@@ -232,7 +234,6 @@ SyntheticFrame synthetic(std::uint64_t seed) {
     std::exit(1);
   }
   SyntheticFrame f = render_scene(*scene);
-  f.truth = ground_truth(*scene, &f.frame, &f.labels);
   return f;
 }
 
@@ -291,6 +292,9 @@ void accuracy_and_ransac(int scenes, int cgal_scenes) {
 struct BandTally {
   int objects = 0, found = 0, correct = 0, direction_right = 0, cones = 0, support_right = 0;
   std::vector<double> errors;
+  // The scanned support under each found object against its truth support: the angle
+  // between their normals (degrees) and the scanned plane's height at the truth foot (m).
+  std::vector<double> support_tilt_deg, support_foot_m;
 };
 
 std::string truth_class(const PhysicalPrimitive& p) {
@@ -416,9 +420,10 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
     if (!png_dir.empty() && scan) {
       std::filesystem::create_directories(png_dir);
       const std::string name = png_dir + "/world_" + std::to_string(seed) + ".png";
+      const std::string stem = png_dir + "/world_" + std::to_string(seed);
       if (!write_png(name, draw_scan_overlay(f.frame, *scan)) ||
-          !write_pcd(png_dir + "/world_" + std::to_string(seed) + ".pcd", f.frame))
-        std::printf("  cannot write %s or its .pcd\n", name.c_str());
+          !write_pcd(stem + ".pcd", f.frame) || !write_scene_file(stem + ".truth.scene", f.truth))
+        std::printf("  cannot write %s, its .pcd or its .truth.scene\n", name.c_str());
     }
     // Majority label of each scanned object.
     std::vector<int> owner;
@@ -545,10 +550,22 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
       for (const SupportSurface& s : scan->scene.supports)
         if (s.id == o.support_id) got = s.plane;
       if (!got && scan->scene.support) got = scan->scene.support;
-      for (const SupportSurface& s : f.truth.supports)
-        if (s.id == truth.support_id && got && std::abs(s.plane.d - got->d) < 0.03 &&
-            dot(s.plane.normal, got->normal) > 0.995)
+      for (const SupportSurface& s : f.truth.supports) {
+        if (s.id != truth.support_id || !got) continue;
+        if (std::abs(s.plane.d - got->d) < 0.03 && dot(s.plane.normal, got->normal) > 0.995)
           ++b.support_right;
+        const double tilt = std::acos(std::clamp(dot(s.plane.normal, got->normal), -1.0, 1.0)) *
+                            180 / 3.14159265358979;
+        const Vec3 foot = tp.center - s.plane.normal * (dot(s.plane.normal, tp.center) + s.plane.d);
+        const double foot_error = std::abs(dot(got->normal, foot) + got->d);
+        b.support_tilt_deg.push_back(tilt);
+        b.support_foot_m.push_back(foot_error);
+        if (verbose && (tilt > 3 || foot_error > 0.02))
+          std::printf(
+              "  seed %d %s truth %zu at %.2f m: support %s tilted %.1f deg, %.1f cm off at the "
+              "foot\n",
+              seed, o.id.c_str(), t, dist, o.support_id.c_str(), tilt, 100 * foot_error);
+      }
       const std::string col = o.primitives.empty() ? "unknown" : std::string(shape_name(o.primitives[0].kind));
       ++confusion[row][col];
       if (verbose && (o.primitives.empty() || o.primitives[0].kind != tp.kind)) {
@@ -592,6 +609,12 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
                 1000 * percentile(b.errors, 0.9),
                 b.found ? 100.0 * b.support_right / b.found : 0.0, b.direction_right, b.cones);
   }
+  std::printf(
+      "  support under found objects (tilt median/p90 deg, height at the foot median/p90 mm):");
+  for (int i = 0; i < 3; ++i)
+    std::printf(" %s %.2f/%.2f %.1f/%.1f%s", bands[i], median(tally[i].support_tilt_deg),
+                percentile(tally[i].support_tilt_deg, 0.9), 1000 * median(tally[i].support_foot_m),
+                1000 * percentile(tally[i].support_foot_m, 0.9), i < 2 ? ";" : "\n");
   std::printf("  false props (background, legs, furniture reported whole): %d (legs %d, "
               "furniture %d, chairs %d, shelves %d); border slivers reported whole: %d; cut "
               "objects flagged partial: %d (of %d cut objects); extra fragments: %d\n",

@@ -2366,12 +2366,24 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   // Cut by the image's border (three pixels or more within border_px of it) or hidden
   // in half under something nearer: what is missing of it no one sees. The objects'
   // partial flag (below), and no cut of touching bodies, whose fit is poor for that.
+  // Running into the sensor's near blind zone is a cut too: a pixel that near beside
+  // one without depth.
+  const double near_limit = params.sensor_min_range_m + params.near_cut_margin_m;
+  const auto at_blind_zone = [&](int i, int x, int y) {
+    if (params.sensor_min_range_m <= 0 || f.points[static_cast<size_t>(i)].z >= near_limit)
+      return false;
+    return (x > 0 && !has_depth(f.points[static_cast<size_t>(i - 1)])) ||
+           (x + 1 < f.width && !has_depth(f.points[static_cast<size_t>(i + 1)])) ||
+           (y > 0 && !has_depth(f.points[static_cast<size_t>(i - f.width)])) ||
+           (y + 1 < f.height && !has_depth(f.points[static_cast<size_t>(i + f.width)]));
+  };
   const auto cut_or_hidden = [&](const std::vector<int>& pixels) {
     int at_border = 0;
     size_t covered = 0;
     for (int i : pixels) {
       const int x = i % f.width, y = i / f.width;
-      at_border += x < left + border || y < top + border || x > right - border || y > bottom - border;
+      at_border += x < left + border || y < top + border || x > right - border ||
+                   y > bottom - border || at_blind_zone(i, x, y);
       covered += hidden[static_cast<size_t>(i)];
     }
     return at_border >= 3 || 2 * covered > pixels.size();

@@ -982,6 +982,11 @@ SyntheticFrame render_scene(const SyntheticScene& base, const SensorNoiseParams&
       },
       out.frame, out.labels, dark_return(s));
   out.truth = ground_truth(s, &out.frame, &out.labels);
+  // Nearer than the sensor's range, a surface returns nothing: an object running into
+  // that blind zone is cut as at the image's border.
+  for (const synthetic_pixels::PixelHit& px : hits)
+    if (px.surface.label >= 0 && px.surface.depth < noise.min_range_m)
+      out.truth.objects[static_cast<std::size_t>(px.surface.label)].partial = true;
   return out;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -12,11 +13,17 @@
 
 namespace annex {
 
-// The scanned object most of whose pixels show object 0 of a one-object scene seen from
-// `distance_m` at `tilt_deg` (scene seed `seed`), the object standing on the aim point.
-inline std::optional<PhysicalObject> scan_one(SyntheticObject object, double distance_m,
-                                              double tilt_deg, std::uint64_t seed = 11,
-                                              const ScanParams& params = {}) {
+// Object 0 of a one-object scene seen from `distance_m` at `tilt_deg` (scene seed
+// `seed`), the object standing on the aim point: its truth, and the scanned object most
+// of whose pixels show it (none when no scanned object does).
+struct OneScan {
+  PhysicalObject truth;
+  std::optional<PhysicalObject> scanned;
+};
+
+inline std::optional<OneScan> scan_one_seen(SyntheticObject object, double distance_m,
+                                            double tilt_deg, std::uint64_t seed = 11,
+                                            const ScanParams& params = {}) {
   SyntheticSceneParams p;
   p.seed = seed;
   p.object_count = 0;
@@ -35,12 +42,25 @@ inline std::optional<PhysicalObject> scan_one(SyntheticObject object, double dis
   const Result<ScanResult> scan = scan_frame(f.frame, params);
   EXPECT_TRUE(scan.ok());
   if (!scan) return std::nullopt;
+  OneScan seen{f.truth.objects.at(0), std::nullopt};
   for (std::size_t k = 0; k < scan->clusters.size(); ++k) {
     int mine = 0;
     for (int i : scan->clusters[k].pixels) mine += f.labels[static_cast<std::size_t>(i)] == 0;
-    if (2 * mine > static_cast<int>(scan->clusters[k].pixels.size())) return scan->scene.objects[k];
+    if (2 * mine > static_cast<int>(scan->clusters[k].pixels.size())) {
+      seen.scanned = scan->scene.objects[k];
+      break;
+    }
   }
-  return std::nullopt;
+  return seen;
+}
+
+// The scanned object of scan_one_seen alone.
+inline std::optional<PhysicalObject> scan_one(SyntheticObject object, double distance_m,
+                                              double tilt_deg, std::uint64_t seed = 11,
+                                              const ScanParams& params = {}) {
+  const std::optional<OneScan> seen =
+      scan_one_seen(std::move(object), distance_m, tilt_deg, seed, params);
+  return seen ? seen->scanned : std::nullopt;
 }
 
 }  // namespace annex

@@ -91,7 +91,6 @@ SyntheticFrame synthetic(std::uint64_t seed) {
   const Result<SyntheticScene> scene = generate_scene(p);
   EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().format());
   SyntheticFrame f = render_scene(*scene);
-  f.truth = ground_truth(*scene, &f.frame, &f.labels);
   return f;
 }
 
@@ -263,7 +262,6 @@ TEST(Scanner, OtherCamerasFindWhatTheKinectDoes) {
       const Result<SyntheticScene> scene = generate_scene(p);
       ASSERT_TRUE(scene.ok()) << scene.error().format();
       SyntheticFrame f = render_scene(*scene);
-      f.truth = ground_truth(*scene, &f.frame, &f.labels);
       ASSERT_DOUBLE_EQ(f.frame.intrinsics.fx, camera.k.fx);
       const Result<ScanResult> scan = scan_frame(f.frame);
       ASSERT_TRUE(scan.ok()) << "seed " << seed << ": " << scan.error().format();

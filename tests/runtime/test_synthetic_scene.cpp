@@ -495,17 +495,22 @@ TEST(SyntheticWorld, CutObjectsCrossTheBorderAndAreMarkedPartial) {
     const Result<SyntheticScene> s = generate_scene(world_scene_params(seed));
     ASSERT_TRUE(s.ok()) << s.error().format();
     const SyntheticFrame f = render_scene(*s, exact());
-    std::vector<char> at_border(f.truth.objects.size(), 0);
+    // Without noise only the sensor's range leaves a pixel without depth: an object's
+    // pixel without depth lies nearer than the range (its blind zone).
+    std::vector<char> at_border(f.truth.objects.size(), 0), too_near(f.truth.objects.size(), 0);
     for (int v = 0; v < 480; ++v)
       for (int u = 0; u < 640; ++u) {
-        if (u != 0 && v != 0 && u != 639 && v != 479) continue;
-        const int l = f.labels[static_cast<std::size_t>(v) * 640 + u];
-        if (l >= 0) at_border[static_cast<std::size_t>(l)] = 1;
+        const std::size_t i = static_cast<std::size_t>(v) * 640 + u;
+        const int l = f.labels[i];
+        if (l < 0) continue;
+        if (!std::isfinite(f.frame.points[i].z)) too_near[static_cast<std::size_t>(l)] = 1;
+        if (u == 0 || v == 0 || u == 639 || v == 479) at_border[static_cast<std::size_t>(l)] = 1;
       }
     for (std::size_t i = 0; i < f.truth.objects.size(); ++i) {
       // Partial in the truth exactly when the object's pixels reach the border (its
-      // image box may cross it while its silhouette does not).
-      EXPECT_EQ(f.truth.objects[i].partial, at_border[i] != 0) << "seed " << seed << " object " << i;
+      // image box may cross it while its silhouette does not) or the blind zone.
+      EXPECT_EQ(f.truth.objects[i].partial, at_border[i] != 0 || too_near[i] != 0)
+          << "seed " << seed << " object " << i;
       cut += at_border[i];
       placed_cut += s->objects[i].cut;
       // Whole objects keep a margin from the border; cut ones reach it unless hidden.

@@ -39,6 +39,10 @@ struct ShapeRecognizerParams {
   // (the slope of radius against height over the side's independent points, each of
   // sigma_z): a frustum tapering by min_cone_taper measures under it half the time.
   double cone_taper_doubt = 2.0;
+  // A cone's side is fitted on the points that face sideways (normals more than 26
+  // degrees from up); with too few of them, on those below the top's height: a cone
+  // flatter than 26 degrees (a wide lid, a flat lampshade) faces up as much as a top.
+  bool flat_cone_sides = true;
   // A secondary primitive must explain this share of the points the salient one misses
   // and at least this share of all points.
   double min_secondary_share = 0.12;

@@ -271,6 +271,13 @@ struct ScanParams {
   // with no depth below them down to that edge (a dark or too-near foot), in three
   // columns or more (furniture_rules.h, foot_cut_by_bottom). false: border_px alone.
   bool foot_at_border = true;
+  // ... and so are objects running into the sensor's near blind zone, which returns no
+  // depth: three pixels or more nearer than sensor_min_range_m + near_cut_margin_m beside
+  // a pixel without depth (a bowl's near rim 40 cm from the camera). The margin is a
+  // pixel's depth step on a surface seen at 80 degrees plus three sigma_z there. The
+  // default range is the Kinect's near mode; set your sensor's (0: off).
+  double sensor_min_range_m = 0.4;
+  double near_cut_margin_m = 0.01;
   int min_whole_points = 400;
   ShapeRecognizerParams shape;
   // Flat surfaces for virtual panels (ScanResult::surfaces). Off for scans that match no

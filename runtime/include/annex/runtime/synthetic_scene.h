@@ -207,7 +207,8 @@ inline constexpr int kLabelPole = -12;       // a post from the floor up
 struct SyntheticFrame {
   Frame frame;              // organized, camera frame, NaN where the sensor saw nothing
   std::vector<int> labels;  // what each pixel's ray hit (also where the point dropped out)
-  PhysicalScene truth;      // table plane and objects in the camera frame
+  PhysicalScene truth;      // table plane and objects in the camera frame; an object
+                            // cut by the border or nearer than the range is partial
 };
 
 // A random scene: the camera pose, table, background and `object_count` objects of
