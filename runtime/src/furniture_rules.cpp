@@ -2,6 +2,7 @@
 #include "furniture_rules.h"
 
 #include "annex/runtime/object_shape_recognizer.h"
+#include "point_scatter.h"
 #include "smallest_eigenvector.h"
 
 #include <algorithm>
@@ -10,6 +11,8 @@
 
 namespace annex {
 namespace {
+
+constexpr double kPi = 3.14159265358979323846;
 
 Vec3 at(const Frame& f, int i) {
   const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
@@ -122,6 +125,43 @@ bool hangs_seen_under(const Frame& f, const std::vector<int>& grid, int step, Ve
   if (!(run > 0) || !(low_h > width * (d - low_h) / run)) return false;
   const FootView v = foot_view(f, grid, step, tolerance);
   return v.columns >= 3 && 2 * v.farther > v.columns;
+}
+
+bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, int step,
+                         const std::vector<int>& surface_of, int support, Vec3 support_n,
+                         const ScanParams& params) {
+  constexpr size_t kLeastAround = 30;
+  if (!params.support_slab_check || grid.empty()) return false;
+  int x0 = f.width, x1 = 0, y0 = f.height, y1 = 0;
+  for (int i : grid) {
+    x0 = std::min(x0, i % f.width), x1 = std::max(x1, i % f.width);
+    y0 = std::min(y0, i / f.width), y1 = std::max(y1, i / f.width);
+  }
+  const int grow = std::max(x1 - x0, y1 - y0) / 2 + step;
+  x0 = std::max(0, x0 - grow), x1 = std::min(f.width - 1, x1 + grow);
+  y0 = std::max(0, y0 - grow), y1 = std::min(f.height - 1, y1 + grow);
+  // The support's strided pixels in the grown box: on the grid, as surface_of marks them.
+  std::vector<Vec3> around;
+  for (int y = y0 - y0 % step; y <= y1; y += step)
+    for (int x = x0 - x0 % step; x <= x1; x += step) {
+      const int i = y * f.width + x;
+      if (y >= y0 && x >= x0 && surface_of[static_cast<size_t>(i)] == support)
+        around.push_back(at(f, i));
+    }
+  if (around.size() < kLeastAround) return false;
+  const PointScatter local = point_scatter(around);
+  const Eigen::Vector3d e = smallest_eigenvector(local.scatter);
+  Vec3 n{e.x(), e.y(), e.z()};
+  if (dot(n, support_n) < 0) n = n * -1.0;
+  if (dot(n, support_n) < std::cos(params.max_support_tilt_deg * kPi / 180)) return false;
+  const Vec3 m{local.mean.x(), local.mean.y(), local.mean.z()};
+  std::vector<double> heights;
+  heights.reserve(grid.size());
+  for (int i : grid) heights.push_back(dot(n, at(f, i) - m));
+  const size_t k = heights.size() * 9 / 10;
+  std::nth_element(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(k),
+                   heights.end());
+  return heights[k] < params.min_height_m;
 }
 
 bool upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up, const ScanParams& params) {

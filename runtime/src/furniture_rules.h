@@ -85,6 +85,19 @@ bool hangs_seen_under(const Frame& f, const std::vector<int>& grid, int step, Ve
 bool foot_unseen(const Frame& f, const std::vector<int>& grid, int step,
                  const std::vector<int>& surface_of, int support);
 
+// Whether the cluster is a piece of its own support's surface: the plane fitted to the
+// support's pixels around it (the cluster's image box grown by half its larger side on
+// every side), within params.max_support_tilt_deg of the support's normal, has nine in
+// ten of the cluster's points less than params.min_height_m above it. The support's plane
+// is one fit over every pixel of the frame in its band, which a lower desk, the wall's
+// foot or objects' feet tilt: a strip of a table's near edge then stands 1 to 6 cm above
+// it (unseen 3038, fresh rooms 8037, 8077, 8097, 8104), yet lies on the table's own
+// surface around it. A prop stands above that surface by its height. Needs 30 support
+// pixels around the cluster; false otherwise, or with params.support_slab_check off.
+bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, int step,
+                         const std::vector<int>& surface_of, int support, Vec3 support_n,
+                         const ScanParams& params);
+
 // Whether the cluster is one upright flat face: its points' spread along their
 // least-spread direction is at most params.panel_noise_factor times the Kinect's axial
 // noise at their mean depth, and that direction lies within 30 degrees of horizontal

@@ -13,12 +13,13 @@
 
 #include "annex/runtime/object_segmenter.h"
 #include "dropout_join.h"
-#include "touching_split.h"
 #include "furniture_rules.h"
 #include "occlusion_join.h"
+#include "point_scatter.h"
 #include "scan_pool.h"
-#include "stacking.h"
 #include "smallest_eigenvector.h"
+#include "stacking.h"
+#include "touching_split.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -110,18 +111,11 @@ struct PlaneFit {
 // Least-squares plane through points (smallest eigenvector of the covariance).
 PlaneFit fit_plane(const std::vector<Vec3>& pts) {
   if (pts.size() < 3) return {};
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Vec3& p : pts) mean += Eigen::Vector3d(p.x, p.y, p.z);
-  mean /= static_cast<double>(pts.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const Vec3& p : pts) {
-    const Eigen::Vector3d q = Eigen::Vector3d(p.x, p.y, p.z) - mean;
-    cov += q * q.transpose();
-  }
+  const PointScatter s = point_scatter(pts);
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-  es.computeDirect(cov);
+  es.computeDirect(s.scatter);
   const Eigen::Vector3d n = es.eigenvectors().col(0);
-  return {{n.x(), n.y(), n.z()}, -n.dot(mean), true};
+  return {{n.x(), n.y(), n.z()}, -n.dot(s.mean), true};
 }
 
 // The plane a search found; the caller's one pass over the pool counts its inliers.
@@ -2177,6 +2171,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
       body = 2 * on_top >= at_height && 20 * on_top >= grid.size();
     }
     if (body) continue;
+    // A piece of its own support's surface, which the support's one plane leaves above it.
+    if (lies_on_own_support(f, grid, stride, surface_of, k, plane.n, params)) continue;
     // The same body when its top is no support found (a cabinet seen level, its top at
     // a grazing angle): a cluster on the same support has its lowest point at this one's
     // top height, within the noise, its middle over this one's width across the view and

@@ -430,6 +430,27 @@ TEST(SupportRules, ATableTopSeenLevelIsOneSupportOfItsEdges) {
   EXPECT_EQ(on.whole, 0);
 }
 
+TEST(SupportRules, APieceOfTheSupportsOwnSurfaceIsNoProp) {
+  // Fresh rooms 8097 and 8104 (session 16): the support's one plane, fitted over every
+  // pixel of the frame in its band, is tilted by some 3 degrees, and a strip of the
+  // table's near edge (8097, 2.2 to 4.4 cm above the plane, 2.6 m away) and of a
+  // cabinet's top (8104, 1.2 to 1.8 cm) came out as flat boxes. Each lies on the plane
+  // fitted to its support's own pixels around it (support_slab_check).
+  ScanParams without;
+  without.support_slab_check = false;
+  const std::vector<std::uint64_t> seeds{8097u, 8104u};
+  const auto pieces = [&](const ScanParams& params) {
+    const Seen table = scan_seeds(seeds, true, kLabelTable, params, true);
+    const Seen cabinet = scan_seeds(seeds, true, kLabelCabinet, params, true);
+    return Seen{table.whole + cabinet.whole, table.found};
+  };
+  const Seen on = pieces(ScanParams{});
+  const Seen off = pieces(without);
+  EXPECT_EQ(on.whole, 0);
+  EXPECT_GE(off.whole, 2);
+  EXPECT_EQ(on.found, off.found);
+}
+
 TEST(SupportRules, ABoardNearTheTablesHeightIsASupportOfItsOwn) {
   // Held-out room 5072: the shelf's upper board, against the wall 36 cm behind the
   // table's far edge, lies 3 cm below the table's top. Supports lie min_support_gap_m

@@ -166,6 +166,12 @@ struct ScanParams {
   // in that shadow and stays whole. Also counts such columns with the hidden ones in
   // hidden_foot_min_height_m's rule (furniture_rules.h, hangs_seen_under). false: off.
   bool partial_when_seen_under = true;
+  // A cluster lying on the plane fitted to its support's own pixels around it (nine in
+  // ten of its points less than min_height_m above it) is a piece of that support's
+  // surface, not a prop: the support's plane, one fit over its whole band, tilts, and a
+  // strip of a table's near edge stood above it (furniture_rules.h, lies_on_own_support).
+  // false: off.
+  bool support_slab_check = true;
   // A cluster that is one upright flat face, spread along its normal by at most this
   // many times the Kinect's axial noise at its depth, whose lower end something nearer
   // hides, is flagged partial: a chair's back or a cabinet's side rising behind the
