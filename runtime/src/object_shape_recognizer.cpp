@@ -729,10 +729,12 @@ bool cone_wider_than_its_points(const Samples& s, const std::vector<int>& subset
 // point: the rim of a bowl, the base of a cone apex up), the radii from the side's
 // profile about that axis (a straight line through radius against height). False when
 // the outline is not seen round most directions.
-bool cone_start_from_footprint(const Samples& s, const std::vector<int>& subset, const std::vector<int>& side,
-                               double h0, double span, std::array<double, 4>& start) {
+// The circle through the footprint's outline seen from above: per 5-degree direction
+// from the points' middle the farthest point, a circle through them (not ok when the
+// outline is not seen most of the way round).
+Circle footprint_circle(const Samples& s, const std::vector<int>& subset) {
   constexpr int kBins = 72;
-  if (subset.empty() || side.size() < 20) return false;
+  if (subset.empty()) return {};
   double ma = 0, mb = 0;
   for (int i : subset) {
     ma += s.p[i].a;
@@ -753,8 +755,15 @@ bool cone_start_from_footprint(const Samples& s, const std::vector<int>& subset,
   std::vector<std::array<double, 2>> outline;
   for (int b = 0; b < kBins; ++b)
     if (far[b] >= 0) outline.push_back({s.p[far[b]].a, s.p[far[b]].b});
-  if (outline.size() < 0.75 * kBins) return false;
-  const Circle rim = kasa_circle(outline);
+  if (outline.size() < 0.75 * kBins) return {};
+  return kasa_circle(outline);
+}
+
+bool cone_start_from_footprint(const Samples& s, const std::vector<int>& subset,
+                               const std::vector<int>& side, double h0, double span,
+                               std::array<double, 4>& start) {
+  if (side.size() < 20) return false;
+  const Circle rim = footprint_circle(s, subset);
   if (!rim.ok) return false;
   double sh = 0, shh = 0, sr = 0, srh = 0;
   for (int i : side) {
@@ -778,7 +787,18 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
   Candidate c = cyl;
   c.model = Model::cone;
   c.valid = false;
-  if (!cyl.valid) return c;
+  if (!cyl.valid) {
+    // A cone flatter than the side test (flat_cone_sides) gives the cylinder fit no side:
+    // its axis then comes from the footprint's outline.
+    const Circle rim = params.flat_cone_sides ? footprint_circle(s, subset) : Circle{};
+    if (!rim.ok || rim.r < params.min_radius_m || rim.r > params.max_radius_m) return c;
+    Candidate start = cyl;
+    start.ca = rim.x;
+    start.cb = rim.y;
+    start.r0 = start.r1 = rim.r;
+    start.valid = true;
+    return fit_cone(s, subset, start, params);
+  }
   // A cone's side runs to the top of the points it is fitted to.
   {
     std::vector<double> hs;

@@ -6,11 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "annex/runtime/scanner.h"
 #include "annex/runtime/synthetic_scene.h"
+#include "label_owner.h"
 #include "scan_one.h"
 
 namespace annex {
@@ -48,6 +50,39 @@ TEST(ShapeFlatCone, AConeFlatterThanTheSideTestIsACone) {
                                 {shape(ShapeKind::cone, {0.10, 0.03}), 0.8, 45}};
   EXPECT_GE(read_as(ShapeKind::cone, views, kScenes, true), 3 * kScenes - 1);
   EXPECT_LE(read_as(ShapeKind::cone, views, kScenes, false), 1);
+}
+
+// What fresh room 8014's dark flat cone (apex up, r 10.3 cm, 4.7 cm tall, 1.08 m away)
+// reads as, with flat cone sides on or off. Its dark side returns in patches and faces
+// up: the upright cylinder, the cone's start, found no side and a circle 2.3 m wide, so
+// no cone was tried and it came out unknown. The footprint's outline gives the axis.
+// "unknown" when no shape fits it, "missed" when no scanned object shows it.
+std::string dark_flat_cone_8014(bool flat_cone_sides) {
+  const Result<SyntheticScene> s = generate_scene(room_scene_params(8014));
+  EXPECT_TRUE(s.ok());
+  if (!s) return "missed";
+  const SyntheticFrame f = render_scene(*s);
+  ScanParams params;
+  params.shape.flat_cone_sides = flat_cone_sides;
+  const Result<ScanResult> scan = scan_frame(f.frame, params);
+  EXPECT_TRUE(scan.ok());
+  if (!scan) return "missed";
+  for (std::size_t k = 0; k < scan->clusters.size(); ++k) {
+    const int t = majority_label(f, scan->clusters[k]);
+    if (t < 0) continue;
+    const SyntheticObject& truth = s->objects[static_cast<std::size_t>(t)];
+    if (truth.kind != ShapeKind::cone || truth.apex_down || truth.dimensions_m[0] < 0.1 ||
+        truth.dimensions_m[1] > 0.05)
+      continue;
+    const PhysicalObject& got = scan->scene.objects[k];
+    return got.primitives.empty() ? "unknown" : std::string(shape_name(got.primitives[0].kind));
+  }
+  return "missed";
+}
+
+TEST(ShapeFlatCone, ADarkFlatConeWithoutASideForTheCylinderIsACone) {
+  EXPECT_EQ(dark_flat_cone_8014(true), "cone");
+  EXPECT_EQ(dark_flat_cone_8014(false), "unknown");
 }
 
 TEST(ShapeFlatCone, AFlatTinAndAFlatBoxStayWhatTheyAre) {

@@ -42,6 +42,8 @@ struct ShapeRecognizerParams {
   // A cone's side is fitted on the points that face sideways (normals more than 26
   // degrees from up); with too few of them, on those below the top's height: a cone
   // flatter than 26 degrees (a wide lid, a flat lampshade) faces up as much as a top.
+  // Its axis then comes from the footprint's outline when the upright cylinder, the
+  // cone's start, finds no side either.
   bool flat_cone_sides = true;
   // A secondary primitive must explain this share of the points the salient one misses
   // and at least this share of all points.
