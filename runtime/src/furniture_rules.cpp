@@ -141,12 +141,12 @@ bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, int step,
   x0 = std::max(0, x0 - grow), x1 = std::min(f.width - 1, x1 + grow);
   y0 = std::max(0, y0 - grow), y1 = std::min(f.height - 1, y1 + grow);
   // The support's strided pixels in the grown box: on the grid, as surface_of marks them.
+  const auto first_on_grid = [step](int v) { return (v + step - 1) / step * step; };
   std::vector<Vec3> around;
-  for (int y = y0 - y0 % step; y <= y1; y += step)
-    for (int x = x0 - x0 % step; x <= x1; x += step) {
+  for (int y = first_on_grid(y0); y <= y1; y += step)
+    for (int x = first_on_grid(x0); x <= x1; x += step) {
       const int i = y * f.width + x;
-      if (y >= y0 && x >= x0 && surface_of[static_cast<size_t>(i)] == support)
-        around.push_back(at(f, i));
+      if (surface_of[static_cast<size_t>(i)] == support) around.push_back(at(f, i));
     }
   if (around.size() < kLeastAround) return false;
   const PointScatter local = point_scatter(around);
@@ -166,19 +166,12 @@ bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, int step,
 
 bool upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up, const ScanParams& params) {
   if (params.panel_noise_factor <= 0 || grid.size() < 10) return false;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int i : grid) {
-    const Vec3 p = at(f, i);
-    mean += Eigen::Vector3d(p.x, p.y, p.z);
-  }
-  mean /= static_cast<double>(grid.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (int i : grid) {
-    const Vec3 p = at(f, i);
-    const Eigen::Vector3d q = Eigen::Vector3d(p.x, p.y, p.z) - mean;
-    cov += q * q.transpose();
-  }
-  cov /= static_cast<double>(grid.size());
+  std::vector<Vec3> pts;
+  pts.reserve(grid.size());
+  for (int i : grid) pts.push_back(at(f, i));
+  const PointScatter face = point_scatter(pts);
+  const Eigen::Vector3d& mean = face.mean;
+  const Eigen::Matrix3d cov = face.scatter / static_cast<double>(grid.size());
   const Eigen::Vector3d n = smallest_eigenvector(cov);
   // Upright: the face's normal within 30 degrees of horizontal (sin 30 = 0.5).
   if (std::abs(n.x() * up.x + n.y() * up.y + n.z() * up.z) > 0.5) return false;

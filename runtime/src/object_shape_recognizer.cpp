@@ -808,23 +808,21 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
   const Candidate span_ref = c;
   std::vector<int> idx;
   std::vector<double> tol;
-  for (int i : subset)
-    if ((!s.has_normals || std::abs(s.up[i]) < 0.9) && s.p[i].h > span_ref.h0 &&
-        s.p[i].h < span_ref.h1) {
-      idx.push_back(i);
-      tol.push_back(s.tol[i]);
-    }
-  // A cone flatter than 26 degrees (a wide lid, a flat lampshade) faces up as much as
-  // a top does: its side is then what lies below the top's height (flat_cone_sides).
-  if (idx.size() < 20 && s.has_normals && params.flat_cone_sides) {
+  // The side: the points within the span that `side` takes.
+  const auto take_side = [&](auto side) {
     idx.clear();
     tol.clear();
     for (int i : subset)
-      if (s.p[i].h > span_ref.h0 && s.p[i].h < span_ref.h1 - 2 * s.tol[i]) {
+      if (s.p[i].h > span_ref.h0 && s.p[i].h < span_ref.h1 && side(i)) {
         idx.push_back(i);
         tol.push_back(s.tol[i]);
       }
-  }
+  };
+  take_side([&](int i) { return !s.has_normals || std::abs(s.up[i]) < 0.9; });
+  // A cone flatter than 26 degrees (a wide lid, a flat lampshade) faces up as much as
+  // a top does: its side is then what lies below the top's height (flat_cone_sides).
+  if (idx.size() < 20 && s.has_normals && params.flat_cone_sides)
+    take_side([&](int i) { return s.p[i].h < span_ref.h1 - 2 * s.tol[i]; });
   if (idx.size() < 20) return c;
   const double span = std::max(span_ref.h1 - span_ref.h0, 1e-3);
   // Start from a straight line through the radius profile (robust to a bad cylinder).
