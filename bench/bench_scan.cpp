@@ -291,6 +291,7 @@ void accuracy_and_ransac(int scenes, int cgal_scenes) {
 // a scanned object stands for the truth object most of its pixels show.
 struct BandTally {
   int objects = 0, found = 0, correct = 0, direction_right = 0, cones = 0, support_right = 0;
+  int flagged_partial = 0;  // found whole objects the scan flagged partial (they do not vote)
   std::vector<double> errors;
   // The scanned support under each found object against its truth support: the angle
   // between their normals (degrees) and the scanned plane's height at the truth foot (m).
@@ -545,6 +546,10 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
       }
       ++b.found;
       const PhysicalObject& o = scan->scene.objects[static_cast<size_t>(pick)];
+      b.flagged_partial += o.partial;
+      if (verbose && o.partial)
+        std::printf("  seed %d %s truth %zu %s at %.2f m: whole, flagged partial (%d points)\n",
+                    seed, o.id.c_str(), t, row.c_str(), dist, o.point_count);
       // The support: the truth plane of the object's support against the scan's.
       std::optional<Plane> got;
       for (const SupportSurface& s : scan->scene.supports)
@@ -615,6 +620,10 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
     std::printf(" %s %.2f/%.2f %.1f/%.1f%s", bands[i], median(tally[i].support_tilt_deg),
                 percentile(tally[i].support_tilt_deg, 0.9), 1000 * median(tally[i].support_foot_m),
                 1000 * percentile(tally[i].support_foot_m, 0.9), i < 2 ? ";" : "\n");
+  std::printf("  whole objects flagged partial (they do not vote):");
+  for (int i = 0; i < 3; ++i)
+    std::printf(" %s %d of %d%s", bands[i], tally[i].flagged_partial, tally[i].found,
+                i < 2 ? ";" : "\n");
   std::printf("  false props (background, legs, furniture reported whole): %d (legs %d, "
               "furniture %d, chairs %d, shelves %d); border slivers reported whole: %d; cut "
               "objects flagged partial: %d (of %d cut objects); extra fragments: %d\n",

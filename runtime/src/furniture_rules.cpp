@@ -20,6 +20,13 @@ Vec3 at(const Frame& f, int i) {
 }
 
 // Image column -> the cluster's topmost (`top`) or lowest grid pixel in it.
+// Grid rows runs_below_support follows a face down past its lowest pixel to the
+// support's edge: a chair's back 10 cm behind the table 1.5 m away spans 20 grid rows.
+constexpr int kBelowRows = 32;
+// How flat a support's surface is beyond the depth noise: a table top, and the Kinect's
+// own depth distortion over the few centimetres runs_below_support looks at.
+constexpr double kFlatSurface = 0.003;
+
 std::map<int, int> end_per_column(const Frame& f, const std::vector<int>& grid, bool top) {
   std::map<int, int> ends;
   for (int i : grid) {
@@ -127,11 +134,11 @@ bool hangs_seen_under(const Frame& f, const std::vector<int>& grid, int step, Ve
   return v.columns >= 3 && 2 * v.farther > v.columns;
 }
 
-bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, int step,
-                         const std::vector<int>& surface_of, int support, Vec3 support_n,
-                         const ScanParams& params) {
+std::optional<Plane> own_support_around(const Frame& f, const std::vector<int>& grid, int step,
+                                        const std::vector<int>& surface_of, int support,
+                                        Vec3 support_n, const ScanParams& params) {
   constexpr size_t kLeastAround = 30;
-  if (!params.support_slab_check || grid.empty()) return false;
+  if (grid.empty()) return std::nullopt;
   int x0 = f.width, x1 = 0, y0 = f.height, y1 = 0;
   for (int i : grid) {
     x0 = std::min(x0, i % f.width), x1 = std::max(x1, i % f.width);
@@ -148,16 +155,22 @@ bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, int step,
       const int i = y * f.width + x;
       if (surface_of[static_cast<size_t>(i)] == support) around.push_back(at(f, i));
     }
-  if (around.size() < kLeastAround) return false;
+  if (around.size() < kLeastAround) return std::nullopt;
   const PointScatter local = point_scatter(around);
   const Eigen::Vector3d e = smallest_eigenvector(local.scatter);
   Vec3 n{e.x(), e.y(), e.z()};
   if (dot(n, support_n) < 0) n = n * -1.0;
-  if (dot(n, support_n) < std::cos(params.max_support_tilt_deg * kPi / 180)) return false;
+  if (dot(n, support_n) < std::cos(params.max_support_tilt_deg * kPi / 180)) return std::nullopt;
   const Vec3 m{local.mean.x(), local.mean.y(), local.mean.z()};
+  return Plane{n, -dot(n, m)};
+}
+
+bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, const Plane& around,
+                         const ScanParams& params) {
+  if (!params.support_slab_check || grid.empty()) return false;
   std::vector<double> heights;
   heights.reserve(grid.size());
-  for (int i : grid) heights.push_back(dot(n, at(f, i) - m));
+  for (int i : grid) heights.push_back(dot(around.normal, at(f, i)) + around.d);
   const size_t k = heights.size() * 9 / 10;
   std::nth_element(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(k),
                    heights.end());
@@ -200,6 +213,47 @@ bool foot_unseen(const Frame& f, const std::vector<int>& grid, int step,
   return looked >= 3 && 2 * unseen > looked;
 }
 
+bool runs_below_support(const Frame& f, const std::vector<int>& grid, int step, const Plane& around,
+                        const std::vector<int>& surface_of, int support, const ScanParams& params) {
+  if (params.below_support_sigmas <= 0) return false;
+  const Vec3 n = around.normal;
+  const double d = around.d;
+  const std::map<int, int> ends = end_per_column(f, grid, false);
+  if (ends.size() < 3) return false;
+  const int row = step * f.width;
+  const int count = static_cast<int>(f.points.size());
+  size_t looked = 0, behind = 0;
+  for (const auto& [col, i] : ends) {
+    const Vec3 p = at(f, i);
+    // Along the plane the depth noise moves an upright face's points by up to three
+    // sigma_z; the support in front of the foot runs farther (a sphere's lowest visible
+    // point lies ahead of its contact, the table's front edge 2 cm on).
+    const double tol = 3 * kinect_sigma_z(p.z);
+    bool seen = false, under = false;
+    for (int r = 1; r <= kBelowRows; ++r) {
+      const int j = i + r * row;
+      if (j >= count) break;
+      if (!has_depth(f.points[static_cast<size_t>(j)])) continue;  // a dropout: look on
+      const Vec3 q = at(f, j);
+      const Vec3 dq = q - p;
+      if (norm(dq - n * dot(n, dq)) > tol) {
+        // The face ends at another surface: below the plane, at the support's own
+        // surface nearer to the camera, its edge hiding the rest of the face.
+        behind += under && q.z < p.z && surface_of[static_cast<size_t>(j)] == support;
+        break;
+      }
+      seen = true;
+      // The depth noise moves a point along its ray: its height by sigma_z times the
+      // ray's slope against the plane (n . q / z), a millimetre or two at a grazing view.
+      const double sigma_h = kinect_sigma_z(q.z) * std::abs(dot(n, q)) / q.z;
+      under =
+          under || dot(n, q) + d < -std::max(kFlatSurface, params.below_support_sigmas * sigma_h);
+    }
+    looked += seen;
+  }
+  return looked >= 3 && 2 * behind > looked;
+}
+
 bool foot_cut_by_bottom(const Frame& f, const std::vector<int>& pixels, int bottom,
                         const ScanParams& params, const ToleranceAt& band) {
   if (!params.foot_at_border || pixels.empty()) return false;
@@ -236,4 +290,3 @@ bool foot_cut_by_bottom(const Frame& f, const std::vector<int>& pixels, int bott
 }
 
 }  // namespace annex
-

@@ -7,9 +7,11 @@
 // cluster tolerance at a depth (it widens with the Kinect's noise).
 
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "annex/common/geometry.h"
+#include "annex/common/physical_scene.h"
 #include "annex/runtime/frame.h"
 #include "annex/runtime/scanner.h"
 
@@ -85,17 +87,24 @@ bool hangs_seen_under(const Frame& f, const std::vector<int>& grid, int step, Ve
 bool foot_unseen(const Frame& f, const std::vector<int>& grid, int step,
                  const std::vector<int>& surface_of, int support);
 
-// Whether the cluster is a piece of its own support's surface: the plane fitted to the
-// support's pixels around it (the cluster's image box grown by half its larger side on
-// every side), within params.max_support_tilt_deg of the support's normal, has nine in
-// ten of the cluster's points less than params.min_height_m above it. The support's plane
-// is one fit over every pixel of the frame in its band, which a lower desk, the wall's
-// foot or objects' feet tilt: a strip of a table's near edge then stands 1 to 6 cm above
-// it (unseen 3038, fresh rooms 8037, 8077, 8097, 8104), yet lies on the table's own
-// surface around it. A prop stands above that surface by its height. Needs 30 support
-// pixels around the cluster; false otherwise, or with params.support_slab_check off.
-bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, int step,
-                         const std::vector<int>& surface_of, int support, Vec3 support_n,
+// The plane fitted to the support's own pixels around the cluster (`surface_of`: the
+// support index of each strided pixel of a support's region): those in the cluster's
+// image box grown by half its larger side on every side. The support's plane is one fit
+// over every pixel of the frame in its band, which a lower desk, the wall's foot or
+// objects' feet tilt by a centimetre or more at the far end; around one cluster its own
+// surface is flat to the noise. Needs 30 support pixels, and a normal within
+// params.max_support_tilt_deg of the support's (`support_n`); nullopt otherwise.
+std::optional<Plane> own_support_around(const Frame& f, const std::vector<int>& grid, int step,
+                                        const std::vector<int>& surface_of, int support,
+                                        Vec3 support_n, const ScanParams& params);
+
+// Whether the cluster is a piece of its own support's surface: nine in ten of its points
+// lie less than params.min_height_m above the support's plane around it
+// (own_support_around). A strip of a table's near edge stands 1 to 6 cm above the
+// support's one plane (unseen 3038, fresh rooms 8037, 8077, 8097, 8104), yet lies on the
+// table's own surface around it. A prop stands above that surface by its height. False
+// with params.support_slab_check off.
+bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, const Plane& around,
                          const ScanParams& params);
 
 // Whether the cluster is one upright flat face: its points' spread along their
@@ -107,6 +116,19 @@ bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, int step,
 // (a laptop's lid, a box seen face-on from afar); with its foot unseen (foot_unseen) it
 // is a chair's back or a cabinet's side rising behind the table: flagged partial.
 bool upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up, const ScanParams& params);
+
+// Whether the cluster stands behind its support's far edge, lower down: in more than half
+// of the grid columns that show its foot, its face runs on below its lowest pixel (no
+// farther along the plane from that pixel than three sigma_z: the depth noise) to below
+// the support's plane around it (own_support_around) by more than
+// params.below_support_sigmas times the height noise there (sigma_z times the ray's
+// slope against the plane) and at least 3 mm, and ends at the support's own surface
+// (`surface_of`) nearer to the camera. A chair's back behind the table, or what stands on
+// the floor behind it, runs on below the table's height until the table's edge hides it;
+// what stands on the support ends at its surface, and a box stacked flush on another
+// runs on down the lower one's front to the floor (flagged partial). 0: off.
+bool runs_below_support(const Frame& f, const std::vector<int>& grid, int step, const Plane& around,
+                        const std::vector<int>& surface_of, int support, const ScanParams& params);
 
 // Whether the cluster's foot runs off the image's bottom edge (`bottom`: the last row
 // that holds depth), unseen: in at least three of its columns its lowest pixel is within

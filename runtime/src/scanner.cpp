@@ -2172,7 +2172,11 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     }
     if (body) continue;
     // A piece of its own support's surface, which the support's one plane leaves above it.
-    if (lies_on_own_support(f, grid, stride, surface_of, k, plane.n, params)) continue;
+    const std::optional<Plane> around =
+        params.support_slab_check || params.below_support_sigmas > 0
+            ? own_support_around(f, grid, stride, surface_of, k, plane.n, params)
+            : std::nullopt;
+    if (around && lies_on_own_support(f, grid, *around, params)) continue;
     // The same body when its top is no support found (a cabinet seen level, its top at
     // a grazing angle): a cluster on the same support has its lowest point at this one's
     // top height, within the noise, its middle over this one's width across the view and
@@ -2268,7 +2272,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // (a shelf's board on side panels outside the cluster, a lamp's head on its arm).
     const bool hanging = params.partial_when_seen_under &&
                          hangs_seen_under(f, grid, stride, plane.n, plane.d, low, bottom_h, width, tolerance);
-    accepted.push_back({&grid, k, min_points, top_hidden || panel || foot_hidden || hanging});
+    // Its face running on below its support's plane: it stands lower, behind the
+    // support's edge, its foot unseen.
+    const bool lower =
+        around && runs_below_support(f, grid, stride, *around, surface_of, k, params);
+    accepted.push_back(
+        {&grid, k, min_points, top_hidden || panel || foot_hidden || hanging || lower});
   }
   // Touching objects apart at the creases and depth steps between them (the parts are
   // kept in cluster order). The regions grow with the tolerance the clustering used at
