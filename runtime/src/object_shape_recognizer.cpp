@@ -860,9 +860,11 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
     return taper_se;
   };
   c = cone_from_parameters(span_ref, x, params, error);
-  // Started from a poor cylinder (a flat bowl seen from the side), the fit can run off
-  // to a cone wider than any of its points: a second start from the footprint's circle.
-  if (cone_wider_than_its_points(s, subset, c)) {
+  // Started from a poor cylinder (a flat bowl seen from the side, a flat cone's side
+  // read as a wider cylinder), the fit can run off to a cone wider than any of its points
+  // or than any prop (a radius of metres whose arc follows the side): a second start
+  // from the footprint's circle.
+  if (std::max(c.r0, c.r1) > params.max_radius_m || cone_wider_than_its_points(s, subset, c)) {
     std::array<double, 4> y{};
     if (cone_start_from_footprint(s, subset, idx, span_ref.h0, span, y)) {
       refine_sampled<4>(y, static_cast<int>(idx.size()), tol, residual, params.refine_sample_points);

@@ -2,7 +2,7 @@
 // top does: its side is then what lies below the top's height (shape_flat_cone_sides,
 // object_shape_recognizer.cpp fit_cone). Fresh rooms 8014 and 8099: dark flat cones apex
 // up, 10 to 11 cm in radius and 4.7 to 7.7 cm tall, 1.1 to 1.2 m away, had no cone
-// candidate and came out unknown.
+// candidate and came out unknown (8099 since session 17: its cone ran off, see below).
 #include <gtest/gtest.h>
 
 #include <optional>
@@ -52,13 +52,12 @@ TEST(ShapeFlatCone, AConeFlatterThanTheSideTestIsACone) {
   EXPECT_LE(read_as(ShapeKind::cone, views, kScenes, false), 1);
 }
 
-// What fresh room 8014's dark flat cone (apex up, r 10.3 cm, 4.7 cm tall, 1.08 m away)
-// reads as, with flat cone sides on or off. Its dark side returns in patches and faces
-// up: the upright cylinder, the cone's start, found no side and a circle 2.3 m wide, so
-// no cone was tried and it came out unknown. The footprint's outline gives the axis.
-// "unknown" when no shape fits it, "missed" when no scanned object shows it.
-std::string dark_flat_cone_8014(bool flat_cone_sides) {
-  const Result<SyntheticScene> s = generate_scene(room_scene_params(8014));
+// What a fresh room's dark flat cone (apex up, 10 cm or more in radius, flatter than it is
+// wide) reads as, with flat cone sides on or off: its shape's name, "unknown" when no
+// shape fits it, "missed" when no scanned object shows it; `got` receives the object.
+std::string dark_flat_cone(std::uint64_t seed, bool flat_cone_sides,
+                           PhysicalObject* got = nullptr) {
+  const Result<SyntheticScene> s = generate_scene(room_scene_params(seed));
   EXPECT_TRUE(s.ok());
   if (!s) return "missed";
   const SyntheticFrame f = render_scene(*s);
@@ -72,17 +71,34 @@ std::string dark_flat_cone_8014(bool flat_cone_sides) {
     if (t < 0) continue;
     const SyntheticObject& truth = s->objects[static_cast<std::size_t>(t)];
     if (truth.kind != ShapeKind::cone || truth.apex_down || truth.dimensions_m[0] < 0.1 ||
-        truth.dimensions_m[1] > 0.05)
+        truth.dimensions_m[1] > 2 * truth.dimensions_m[0])
       continue;
-    const PhysicalObject& got = scan->scene.objects[k];
-    return got.primitives.empty() ? "unknown" : std::string(shape_name(got.primitives[0].kind));
+    const PhysicalObject& o = scan->scene.objects[k];
+    if (got) *got = o;
+    return o.primitives.empty() ? "unknown" : std::string(shape_name(o.primitives[0].kind));
   }
   return "missed";
 }
 
 TEST(ShapeFlatCone, ADarkFlatConeWithoutASideForTheCylinderIsACone) {
-  EXPECT_EQ(dark_flat_cone_8014(true), "cone");
-  EXPECT_EQ(dark_flat_cone_8014(false), "unknown");
+  // Fresh room 8014 (apex up, r 10.3 cm, 4.7 cm tall, 1.08 m away): its dark side returns
+  // in patches and faces up; the upright cylinder, the cone's start, found no side and a
+  // circle 2.3 m wide, so no cone was tried and it came out unknown. The footprint's
+  // outline gives the axis.
+  EXPECT_EQ(dark_flat_cone(8014, true), "cone");
+  EXPECT_EQ(dark_flat_cone(8014, false), "unknown");
+}
+
+TEST(ShapeFlatCone, AFlatConeWhoseFitRunsOffStartsAgainFromItsFootprint) {
+  // Fresh room 8099 (session 17; apex up, r 11.0 cm, 7.7 cm tall, 1.19 m away, dark):
+  // the upright cylinder read its side as one of r 16.6 cm, and the cone started from it
+  // ran off to a radius of 5.5 m whose arc follows the side, past any prop: no cone, and
+  // the object came out unknown. Such a run-off starts again from the footprint's circle.
+  PhysicalObject got;
+  EXPECT_EQ(dark_flat_cone(8099, true, &got), "cone");
+  ASSERT_FALSE(got.primitives.empty());
+  EXPECT_NEAR(got.primitives[0].dimensions_m[0], 0.110, 0.005);
+  EXPECT_NEAR(got.primitives[0].dimensions_m[1], 0.077, 0.005);
 }
 
 TEST(ShapeFlatCone, AFlatTinAndAFlatBoxStayWhatTheyAre) {
