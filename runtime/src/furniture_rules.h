@@ -124,9 +124,10 @@ bool upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up, const 
 // params.below_support_sigmas times the height noise there (sigma_z times the ray's
 // slope against the plane) and at least 3 mm, and ends at the support's own surface
 // (`surface_of`) nearer to the camera. A chair's back behind the table, or what stands on
-// the floor behind it, runs on below the table's height until the table's edge hides it;
-// what stands on the support ends at its surface, and a box stacked flush on another
-// runs on down the lower one's front to the floor (flagged partial). 0: off.
+// the floor behind it, runs on below the table's height until the table's edge hides it:
+// no one sees its foot (the scanner flags it partial). What stands on the support ends at
+// its surface; a box stacked flush on another runs on down the lower one's front to the
+// floor, no surface of its support. False with params.below_support_sigmas 0.
 bool runs_below_support(const Frame& f, const std::vector<int>& grid, int step, const Plane& around,
                         const std::vector<int>& surface_of, int support, const ScanParams& params);
 

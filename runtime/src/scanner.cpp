@@ -2272,8 +2272,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // (a shelf's board on side panels outside the cluster, a lamp's head on its arm).
     const bool hanging = params.partial_when_seen_under &&
                          hangs_seen_under(f, grid, stride, plane.n, plane.d, low, bottom_h, width, tolerance);
-    // Its face running on below its support's plane: it stands lower, behind the
-    // support's edge, its foot unseen.
+    // Its face running on below its support's surface until that surface's edge, nearer,
+    // hides it: it stands lower, behind the edge, its foot unseen.
     const bool lower =
         around && runs_below_support(f, grid, stride, *around, surface_of, k, params);
     accepted.push_back(

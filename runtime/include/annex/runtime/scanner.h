@@ -179,11 +179,13 @@ struct ScanParams {
   // to 1.2 times; a box 10 cm deep seen from above, 1 m away, 8 times). A face whose foot
   // is seen stays whole (a laptop's lid, a box seen face-on from afar). 0: off.
   double panel_noise_factor = 2.0;
-  // A cluster whose face runs on below its support's plane, by more than this many times
-  // the Kinect's axial noise, in most of its columns is flagged partial: it stands lower,
-  // behind the support's edge (a chair's back behind the table's far edge, 1.5 m away),
-  // and no one sees its foot. What stands on the support ends at its plane
-  // (furniture_rules.h, runs_below_support). 0: off.
+  // A cluster whose face runs on below the plane of its support's own pixels around it, by
+  // more than this many times the height noise there (sigma_z times the ray's slope
+  // against the plane) and 3 mm, and then meets that support's surface nearer to the
+  // camera, in most of its columns, is flagged partial: it stands lower, behind the
+  // support's far edge (a chair's back behind the table, 1.5 to 3.3 m away), and no one
+  // sees its foot. What stands on the support ends at its surface (furniture_rules.h,
+  // runs_below_support). 0: off.
   double below_support_sigmas = 3.0;
   int pixel_stride = 2;             // plane search works on every n-th pixel
   // The hull of the support's visible part is extended to the camera's foot on the
