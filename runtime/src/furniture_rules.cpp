@@ -19,7 +19,6 @@ Vec3 at(const Frame& f, int i) {
   return {p.x, p.y, p.z};
 }
 
-// Image column -> the cluster's topmost (`top`) or lowest grid pixel in it.
 // Grid rows runs_below_support follows a face down past its lowest pixel to the
 // support's edge: a chair's back 10 cm behind the table 1.5 m away spans 20 grid rows.
 constexpr int kBelowRows = 32;
@@ -27,6 +26,7 @@ constexpr int kBelowRows = 32;
 // own depth distortion over the few centimetres runs_below_support looks at.
 constexpr double kFlatSurface = 0.003;
 
+// Image column -> the cluster's topmost (`top`) or lowest grid pixel in it.
 std::map<int, int> end_per_column(const Frame& f, const std::vector<int>& grid, bool top) {
   std::map<int, int> ends;
   for (int i : grid) {
