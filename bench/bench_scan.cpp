@@ -420,8 +420,8 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
     if (!scan) ++failures;
     if (!png_dir.empty() && scan) {
       std::filesystem::create_directories(png_dir);
-      const std::string name = png_dir + "/world_" + std::to_string(seed) + ".png";
       const std::string stem = png_dir + "/world_" + std::to_string(seed);
+      const std::string name = stem + ".png";
       if (!write_png(name, draw_scan_overlay(f.frame, *scan)) ||
           !write_pcd(stem + ".pcd", f.frame) || !write_scene_file(stem + ".truth.scene", f.truth))
         std::printf("  cannot write %s, its .pcd or its .truth.scene\n", name.c_str());

@@ -2272,12 +2272,13 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // (a shelf's board on side panels outside the cluster, a lamp's head on its arm).
     const bool hanging = params.partial_when_seen_under &&
                          hangs_seen_under(f, grid, stride, plane.n, plane.d, low, bottom_h, width, tolerance);
-    // Its face running on below its support's surface until that surface's edge, nearer,
-    // hides it: it stands lower, behind the edge, its foot unseen.
-    const bool lower =
-        around && runs_below_support(f, grid, stride, *around, surface_of, k, params);
-    accepted.push_back(
-        {&grid, k, min_points, top_hidden || panel || foot_hidden || hanging || lower});
+    // Or its face runs on below its support's surface until that surface's edge, nearer,
+    // hides it: it stands lower, behind the edge, its foot unseen (asked only when no rule
+    // above has flagged it).
+    const bool unseen =
+        top_hidden || panel || foot_hidden || hanging ||
+        (around && runs_below_support(f, grid, stride, *around, surface_of, k, params));
+    accepted.push_back({&grid, k, min_points, unseen});
   }
   // Touching objects apart at the creases and depth steps between them (the parts are
   // kept in cluster order). The regions grow with the tolerance the clustering used at
