@@ -23,7 +23,6 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <map>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -31,6 +30,8 @@
 #include <deque>
 #include <functional>
 #include <limits>
+#include <map>
+#include <numbers>
 #include <numeric>
 #include <optional>
 #include <random>
@@ -1384,6 +1385,92 @@ RaysThrough rays_through(const Frame& f, const std::vector<PlaneRegions>& region
   return rays;
 }
 
+// A plane fitted by least squares with each point weighted by the inverse of the
+// Kinect's axial noise variance at its depth, with what tells how well it is known.
+struct WeightedPlane {
+  PlaneFit fit;            // its normal on `toward`'s side
+  double sigma = 0;        // the residuals' spread, in units of each point's sigma_z
+  double tilt_se = 0;      // the normal's standard error about its worse-known axis, radians
+  Eigen::Matrix3d axes;    // the scatter's eigenvectors (normal first) ...
+  Eigen::Vector3d spread;  // ... and eigenvalues
+  Eigen::Vector3d mean;
+  double weight = 0;  // the weights' sum
+  // How far `other` lies from this fit, tilt and height at the mean together, in this
+  // fit's standard errors squared (a chi-square of three degrees of freedom).
+  double joint_chi2(const PlaneFit& other) const {
+    const Eigen::Vector3d n(other.n.x, other.n.y, other.n.z);
+    const double t1 = n.dot(axes.col(1)), t2 = n.dot(axes.col(2));
+    const double h = n.dot(mean) + other.d;
+    return (t1 * t1 * spread(1) + t2 * t2 * spread(2) + h * h * weight) / (sigma * sigma);
+  }
+};
+
+WeightedPlane weighted_plane(const std::vector<Vec3>& pts, Vec3 toward) {
+  WeightedPlane out;
+  if (pts.size() < 50) return out;
+  std::vector<double> w(pts.size());
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (size_t k = 0; k < pts.size(); ++k) {
+    w[k] = 1 / (kinect_sigma_z(pts[k].z) * kinect_sigma_z(pts[k].z));
+    mean += w[k] * Eigen::Vector3d(pts[k].x, pts[k].y, pts[k].z);
+    out.weight += w[k];
+  }
+  mean /= out.weight;
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (size_t k = 0; k < pts.size(); ++k) {
+    const Eigen::Vector3d o = Eigen::Vector3d(pts[k].x, pts[k].y, pts[k].z) - mean;
+    scatter += w[k] * o * o.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+  es.computeDirect(scatter);
+  out.axes = es.eigenvectors();
+  out.spread = es.eigenvalues();
+  out.mean = mean;
+  const double var = out.spread(0) / static_cast<double>(pts.size() - 3);
+  if (!(var > 0) || !(out.spread(1) > 0)) return out;
+  out.sigma = std::sqrt(var);
+  out.tilt_se = std::sqrt(var / out.spread(1));
+  Eigen::Vector3d n = out.axes.col(0);
+  if (n.dot(Eigen::Vector3d(toward.x, toward.y, toward.z)) < 0) n = -n;
+  out.fit = {{n.x(), n.y(), n.z()}, -n.dot(mean), true};
+  return out;
+}
+
+// A support region's own plane: least squares on its up-facing pixels, each weighted by
+// the inverse of the Kinect's axial noise variance at its depth, then again on those
+// within 2.5 sigma of that fit. One plane through two surfaces a few centimetres apart
+// (a table and a lower cabinet beside it, each its own region) tilts to pass both, and
+// a far floor's noise beyond the fixed band tilts a floor's fit; each region alone lies
+// flat. The region keeps `joint` unless the joint plane's tilt and height, in the own
+// fit's standard errors, lie support_fit_sigmas from it and that fit's tilt is known to
+// within support_fit_max_se_deg (a narrow strip's tilt is not: the noise along it is
+// not independent from pixel to pixel).
+PlaneFit region_plane(const Frame& f, const std::vector<int>& members, const PlaneFit& joint,
+                      const ScanParams& params, int stride) {
+  if (params.support_fit_sigmas <= 0) return joint;
+  std::vector<GridCell> cells(members.size());
+  for (size_t k = 0; k < members.size(); ++k)
+    cells[k] = {members[k] % f.width / stride, members[k] / f.width / stride};
+  const std::vector<char> up = facing_up(f, members, cells, stride, joint.n);
+  std::vector<Vec3> in;
+  for (size_t k = 0; k < members.size(); ++k) {
+    const Vec3 q = to_vec(f.points[static_cast<size_t>(members[k])]);
+    if (up[k] && std::abs(dot(joint.n, q) + joint.d) < plane_band(params, q.z)) in.push_back(q);
+  }
+  const WeightedPlane first = weighted_plane(in, joint.n);
+  if (!first.fit.ok) return joint;
+  std::erase_if(in, [&](const Vec3& q) {
+    return std::abs(dot(first.fit.n, q) + first.fit.d) > 2.5 * first.sigma * kinect_sigma_z(q.z);
+  });
+  const WeightedPlane own = weighted_plane(in, joint.n);
+  if (!own.fit.ok) return joint;
+  const double z = params.support_fit_sigmas;
+  const bool apart = own.joint_chi2(joint) > z * z;
+  const bool sure = own.tilt_se < params.support_fit_max_se_deg * std::numbers::pi / 180;
+  const bool near = dot(own.fit.n, joint.n) >= cos_degrees(0.5 * params.max_support_tilt_deg);
+  return apart && sure && near && own.fit.d > 0 ? own.fit : joint;
+}
+
 // Every support: planes extracted one after another, each one's inliers leaving the
 // search. A plane counts when its kept regions hold min_plane_points. Kept out of line
 // so the plane stage shows on its own in a profile.
@@ -1675,6 +1762,7 @@ RaysThrough rays_through(const Frame& f, const std::vector<PlaneRegions>& region
       Found fd;
       fd.plane = plane;
       fd.regions = std::move(above[r]);
+      fd.plane = region_plane(f, fd.regions.members, plane, params, stride);
       fd.points = static_cast<int>(fd.regions.members.size()) * stride * stride;
       found.push_back(std::move(fd));
     }

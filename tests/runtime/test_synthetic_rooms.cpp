@@ -517,7 +517,8 @@ TEST(ScannerRooms, ObjectsAcrossATableEdgeAreOneObjectOfTheirShape) {
   const FeatureFigures r = scan_feature("overhang", 6001, 6010, 2.5);
   EXPECT_GE(r.objects, 8);
   EXPECT_GE(r.found * 10, r.objects * 9);
-  EXPECT_LE(r.pieces_extra, 1);
+  // 1 until session 18; each support region on its own plane adds a second.
+  EXPECT_LE(r.pieces_extra, 2);
   EXPECT_GE(r.correct * 10, r.found * 85 / 10);
 }
 
@@ -690,6 +691,9 @@ TEST(ScannerRooms, ASliverCutByTheBorderHoldsNoBallAndBowl) {
     // The sliver's refit from ball and bowl is no sliver shape either, so the give-back
     // of a spoiling part (part_fit_slack) undoes the join too: off, for the same reason.
     p.part_fit_slack = 1.0;
+    // The supports as they were found then: with each region on its own plane
+    // (support_fit_sigmas, session 18) both come out right without the rule too.
+    p.support_fit_sigmas = 0;
     const Result<ScanResult> scan = scan_frame(f.frame, p);
     ASSERT_TRUE(scan.ok());
     for (std::size_t c = 0; c < scan->clusters.size(); ++c) {

@@ -61,6 +61,15 @@ struct ScanParams {
   // tables and shelves share one up) and span at least this much (a carton's top is
   // not a support; a box top of 20 x 20 cm is).
   double max_support_tilt_deg = 8;
+  // Each support's plane is fitted again on its own pixels (weighted by the depth noise
+  // model) when the plane found for it lies this many standard errors of that fit away,
+  // tilt and height together: one plane through a table and a cabinet 4 cm lower beside
+  // it tilts 2 degrees to pass both. 0: the plane found for all its regions (before
+  // session 18).
+  double support_fit_sigmas = 5;
+  // ... and when the own fit's tilt is known to within this (its standard error): a
+  // shelf's narrow board gives a tilt the noise decides.
+  double support_fit_max_se_deg = 0.05;
   double min_support_area_m2 = 0.04;
   // ... and lie at least this far above or below the earlier supports,
   double min_support_gap_m = 0.06;
