@@ -517,7 +517,8 @@ TEST(ScannerRooms, ObjectsAcrossATableEdgeAreOneObjectOfTheirShape) {
   const FeatureFigures r = scan_feature("overhang", 6001, 6010, 2.5);
   EXPECT_GE(r.objects, 8);
   EXPECT_GE(r.found * 10, r.objects * 9);
-  // 1 until session 18; each support region on its own plane adds a second.
+  // 1 until session 18 (6002's object at 1.45 m); with each support region on its own
+  // plane, 6007's at 1.17 m is in two pieces too (29 of the 30 classed right either way).
   EXPECT_LE(r.pieces_extra, 2);
   EXPECT_GE(r.correct * 10, r.found * 85 / 10);
 }
