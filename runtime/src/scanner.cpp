@@ -1385,6 +1385,8 @@ RaysThrough rays_through(const Frame& f, const std::vector<PlaneRegions>& region
   return rays;
 }
 
+namespace {
+
 // A plane fitted by least squares with each point weighted by the inverse of the
 // Kinect's axial noise variance at its depth, with what tells how well it is known.
 struct WeightedPlane {
@@ -1470,7 +1472,8 @@ PlaneFit region_plane(const Frame& f, const std::vector<int>& members, const Pla
       residual[k] = std::abs(dot(own.fit.n, in[k]) + own.fit.d) / kinect_sigma_z(in[k].z);
     sorted = residual;
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    const double robust_sigma = 1.4826 * sorted[sorted.size() / 2];  // MAD of a normal
+    const double robust_sigma =
+        1.4826 * sorted[sorted.size() / 2];  // a normal's sigma from its MAD
     kept.clear();
     for (size_t k = 0; k < in.size(); ++k)
       if (residual[k] < kTrimSigmas * robust_sigma) kept.push_back(in[k]);
@@ -1483,6 +1486,8 @@ PlaneFit region_plane(const Frame& f, const std::vector<int>& members, const Pla
   const bool near = dot(own.fit.n, joint.n) >= cos_degrees(0.5 * params.max_support_tilt_deg);
   return apart && sure && near && own.fit.d > 0 ? own.fit : joint;
 }
+
+}  // namespace
 
 // Every support: planes extracted one after another, each one's inliers leaving the
 // search. A plane counts when its kept regions hold min_plane_points. Kept out of line
@@ -1773,7 +1778,6 @@ PlaneFit region_plane(const Frame& f, const std::vector<int>& members, const Pla
     for (size_t r = 0; r < above.size(); ++r) {
       if (!holds[r]) continue;
       Found fd;
-      fd.plane = plane;
       fd.regions = std::move(above[r]);
       fd.plane = region_plane(f, fd.regions.members, plane, params);
       fd.points = static_cast<int>(fd.regions.members.size()) * stride * stride;

@@ -61,8 +61,9 @@ struct ScanParams {
   // tables and shelves share one up) and span at least this much (a carton's top is
   // not a support; a box top of 20 x 20 cm is).
   double max_support_tilt_deg = 8;
-  // Each support's plane is fitted again on its own pixels (weighted by the depth noise
-  // model) when the plane found for it lies this many standard errors of that fit away,
+  // Each raised support's plane (not the floor's) is fitted again on its own pixels
+  // (weighted by the depth noise model, outliers trimmed) when the plane found for its
+  // height band lies this many standard errors of that fit away,
   // tilt and height together: one plane through a table and a cabinet 4 cm lower beside
   // it tilts 2 degrees to pass both. 0: the plane found for all its regions (before
   // session 18).
