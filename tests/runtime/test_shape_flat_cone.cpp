@@ -27,10 +27,6 @@ struct View {
 int read_as(ShapeKind kind, const std::vector<View>& views, int n, bool flat_cone_sides) {
   ScanParams params;
   params.shape.flat_cone_sides = flat_cone_sides;
-  // The supports as they were found then, one plane for all of a height's regions: 8014's
-  // table fitted on its own pixels (support_fit_sigmas, session 18) makes it a cone
-  // without flat cone sides too.
-  params.support_fit_sigmas = 0;
   int right = 0;
   for (const View& v : views)
     for (int seed = 1; seed <= n; ++seed) {
