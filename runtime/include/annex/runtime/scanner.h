@@ -63,10 +63,9 @@ struct ScanParams {
   double max_support_tilt_deg = 8;
   // Each raised support's plane (not the floor's) is fitted again on its own pixels
   // (weighted by the depth noise model, outliers trimmed) when the plane found for its
-  // height band lies this many standard errors of that fit away,
-  // tilt and height together: one plane through a table and a cabinet 4 cm lower beside
-  // it tilts 2 degrees to pass both. 0: the plane found for all its regions (before
-  // session 18).
+  // height band lies this many standard errors of that fit away, tilt and height
+  // together: one plane through a table and a cabinet 4 cm lower beside it tilts 2
+  // degrees to pass both. 0: the plane found for all its regions (before session 18).
   double support_fit_sigmas = 5;
   // ... and when the own fit's tilt is known to within this (its standard error): a
   // shelf's narrow board gives a tilt the noise decides.
