@@ -1392,11 +1392,12 @@ namespace {
 struct WeightedPlane {
   PlaneFit fit;            // its normal on `toward`'s side
   double sigma = 0;        // the residuals' spread, in units of each point's sigma_z
-  double tilt_se = 0;      // the normal's standard error about its worse-known axis, radians
   Eigen::Matrix3d axes;    // the scatter's eigenvectors (normal first) ...
   Eigen::Vector3d spread;  // ... and eigenvalues
   Eigen::Vector3d mean;
   double weight = 0;  // the weights' sum
+  // The normal's standard error about its worse-known axis, radians.
+  double tilt_se() const { return sigma / std::sqrt(spread(1)); }
   // How far `other` lies from this fit, tilt and height at the mean together, in this
   // fit's standard errors squared (a chi-square of three degrees of freedom).
   double joint_chi2(const PlaneFit& other) const {
@@ -1431,7 +1432,6 @@ WeightedPlane weighted_plane(const std::vector<Vec3>& pts, Vec3 toward) {
   const double var = out.spread(0) / static_cast<double>(pts.size() - 3);
   if (!(var > 0) || !(out.spread(1) > 0)) return out;
   out.sigma = std::sqrt(var);
-  out.tilt_se = std::sqrt(var / out.spread(1));
   Eigen::Vector3d n = out.axes.col(0);
   if (n.dot(Eigen::Vector3d(toward.x, toward.y, toward.z)) < 0) n = -n;
   out.fit = {{n.x(), n.y(), n.z()}, -n.dot(mean), true};
@@ -1472,8 +1472,8 @@ PlaneFit region_plane(const Frame& f, const std::vector<int>& members, const Pla
       residual[k] = std::abs(dot(own.fit.n, in[k]) + own.fit.d) / kinect_sigma_z(in[k].z);
     sorted = residual;
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    const double robust_sigma =
-        1.4826 * sorted[sorted.size() / 2];  // a normal's sigma from its MAD
+    // A normal distribution's sigma from its median absolute residual.
+    const double robust_sigma = 1.4826 * sorted[sorted.size() / 2];
     kept.clear();
     for (size_t k = 0; k < in.size(); ++k)
       if (residual[k] < kTrimSigmas * robust_sigma) kept.push_back(in[k]);
@@ -1482,7 +1482,7 @@ PlaneFit region_plane(const Frame& f, const std::vector<int>& members, const Pla
   if (!own.fit.ok) return joint;
   const double z = params.support_fit_sigmas;
   const bool apart = own.joint_chi2(joint) > z * z;
-  const bool sure = own.tilt_se < params.support_fit_max_se_deg * std::numbers::pi / 180;
+  const bool sure = own.tilt_se() < params.support_fit_max_se_deg * std::numbers::pi / 180;
   const bool near = dot(own.fit.n, joint.n) >= cos_degrees(0.5 * params.max_support_tilt_deg);
   return apart && sure && near && own.fit.d > 0 ? own.fit : joint;
 }
