@@ -45,10 +45,15 @@ bool top_cut_by_band(const Frame& f, const std::vector<int>& grid, int step, Vec
   // Too few columns to tell a cut front from noise.
   if (top.size() < 3) return false;
   const int row = step * f.width;
-  size_t cut = 0;
+  size_t cut = 0, at_top = 0;
   for (const auto& [col, i] : top) {
     const Vec3 p = at(f, i);
     const double tol = tolerance(p.z);
+    // Only a column whose topmost pixel lies at the band's top can show the cut: where
+    // the silhouette's side crosses the column (a post slanted in the image by the view),
+    // its top there is a side's edge, lower.
+    if (dot(n, p) + d < params.max_height_m - tol) continue;
+    ++at_top;
     // The row spacing on the cluster's own surface, from the pixel below: a front seen
     // at a grazing angle from above spaces its rows wider than the depth noise.
     const int b = i + row;
@@ -68,7 +73,9 @@ bool top_cut_by_band(const Frame& f, const std::vector<int>& grid, int step, Vec
       break;
     }
   }
-  return static_cast<double>(cut) >= params.cut_top_share * static_cast<double>(top.size());
+  // A cut shows in at least three columns at the band's top.
+  return at_top >= 3 &&
+         static_cast<double>(cut) >= params.cut_top_share * static_cast<double>(at_top);
 }
 
 namespace {

@@ -20,9 +20,12 @@ namespace annex {
 using ToleranceAt = std::function<double(double z)>;
 
 // Whether the cluster's top is the height band's top across most of its width: in at
-// least params.cut_top_share of its grid columns, the topmost pixel's neighbour one or
-// two grid rows up lies above max_height_m and continues its surface with no depth step
-// (no farther from it than the rows below are spaced, plus the noise). A prop's top ends
+// least params.cut_top_share of its grid columns whose topmost pixel lies at the band's
+// top (within the tolerance; three at least), that pixel's neighbour one or two grid rows
+// up lies above max_height_m and continues its surface with no depth step (no farther
+// from it than the rows below are spaced, plus the noise). Columns whose topmost pixel
+// lies lower cross the silhouette's side, not its top (a post 3 m away, slanted in the
+// image by a tilted view: fresh rooms 8029), and count for neither. A prop's top ends
 // below the band (the wall behind it is a step away); a wardrobe's or a chair back's
 // front runs on, row after row, wherever the band cuts it. Counted per column, so a wide
 // front whose rows are spaced 2 to 5 cm apart by a steep view and the noise is not
