@@ -99,6 +99,8 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"below_support_sigmas", Kind::non_negative, &p.below_support_sigmas},
       {"support_fit_sigmas", Kind::non_negative, &p.support_fit_sigmas},
       {"support_fit_max_se_deg", Kind::non_negative, &p.support_fit_max_se_deg},
+      {"support_fit_facing_deg", Kind::angle, &p.support_fit_facing_deg},
+      {"support_fit_median_test", Kind::flag, nullptr, nullptr, 0, &p.support_fit_median_test},
       {"min_cluster_points_far", Kind::whole, nullptr, &p.min_cluster_points_far, 12},
       {"border_px", Kind::whole, nullptr, &p.border_px, 0},
       {"foot_at_border", Kind::flag, nullptr, nullptr, 0, &p.foot_at_border},

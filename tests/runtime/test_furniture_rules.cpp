@@ -498,6 +498,47 @@ double degrees_between(Vec3 a, Vec3 b) {
   return std::acos(std::clamp(dot(a, b), -1.0, 1.0)) * 180 / std::numbers::pi;
 }
 
+// What the table's support looks like on `seeds` (rooms with their shelves' objects and
+// extras when `rooms`): slabs of the table reported whole, true props found whole, and
+// the worst tilt from the truth of a support under a true object on the table, and of
+// the support found at the table's height (within 10 cm, the most points).
+struct TableFit {
+  int slabs = 0, props = 0;
+  double worst_tilt_deg = 0, table_tilt_deg = 0;
+};
+
+TableFit table_fit(const std::vector<std::uint64_t>& seeds, bool rooms, const ScanParams& params) {
+  TableFit c;
+  for_each_scan(seeds, rooms, true, params,
+                [&](const SyntheticScene&, const SyntheticFrame& f, const ScanResult& scan,
+                    const std::vector<int>& owners) {
+                  Vec3 table_n{};
+                  double table_d = 0;
+                  for (const SupportSurface& s : f.truth.supports)
+                    if (s.id == "table") table_n = s.plane.normal, table_d = s.plane.d;
+                  int most = 0;
+                  double tilt = 0;
+                  for (const SupportSurface& s : scan.scene.supports)
+                    if (std::abs(s.plane.d - table_d) < 0.1 && s.point_count > most)
+                      most = s.point_count, tilt = degrees_between(s.plane.normal, table_n);
+                  c.table_tilt_deg = std::max(c.table_tilt_deg, tilt);
+                  for (size_t k = 0; k < owners.size(); ++k) {
+                    const PhysicalObject& o = scan.scene.objects[k];
+                    const int owner = owners[k];
+                    if (!o.partial) c.slabs += owner == kLabelTable;
+                    if (owner < 0 || o.partial) continue;
+                    const PhysicalObject& truth = f.truth.objects[static_cast<size_t>(owner)];
+                    c.props += !truth.partial;
+                    if (truth.support_id != "table") continue;
+                    for (const SupportSurface& s : scan.scene.supports)
+                      if (s.id == o.support_id)
+                        c.worst_tilt_deg =
+                            std::max(c.worst_tilt_deg, degrees_between(s.plane.normal, table_n));
+                  }
+                });
+  return c;
+}
+
 TEST(SupportRules, EachSupportRegionLiesOnItsOwnPlane) {
   // Fresh room 8077 (session 18): a cabinet's top 3.6 cm below the table, nearer the
   // camera, was found with the table as one plane tilted 1.9 degrees to pass both, and a
@@ -507,41 +548,48 @@ TEST(SupportRules, EachSupportRegionLiesOnItsOwnPlane) {
   ScanParams without;
   without.support_fit_sigmas = 0;
   const std::vector<std::uint64_t> seeds{8077u, 5059u};
-  struct Count {
-    int slabs = 0, props = 0;
-    double worst_tilt_deg = 0;  // of a support under a true object on the table
-  };
-  const auto count = [&](const ScanParams& params) {
-    Count c;
-    for_each_scan(seeds, true, true, params,
-                  [&](const SyntheticScene&, const SyntheticFrame& f, const ScanResult& scan,
-                      const std::vector<int>& owners) {
-                    Vec3 table_n{};
-                    for (const SupportSurface& s : f.truth.supports)
-                      if (s.id == "table") table_n = s.plane.normal;
-                    for (size_t k = 0; k < owners.size(); ++k) {
-                      const PhysicalObject& o = scan.scene.objects[k];
-                      const int owner = owners[k];
-                      if (!o.partial) c.slabs += owner == kLabelTable;
-                      if (owner < 0 || o.partial) continue;
-                      const PhysicalObject& truth = f.truth.objects[static_cast<size_t>(owner)];
-                      c.props += !truth.partial;
-                      if (truth.support_id != "table") continue;
-                      for (const SupportSurface& s : scan.scene.supports)
-                        if (s.id == o.support_id)
-                          c.worst_tilt_deg =
-                              std::max(c.worst_tilt_deg, degrees_between(s.plane.normal, table_n));
-                    }
-                  });
-    return c;
-  };
-  const Count on = count(ScanParams{});
-  const Count off = count(without);
+  const TableFit on = table_fit(seeds, true, ScanParams{});
+  const TableFit off = table_fit(seeds, true, without);
   EXPECT_EQ(on.slabs, 0);
   EXPECT_GE(off.slabs, 1);
   EXPECT_LT(on.worst_tilt_deg, 0.5);
   EXPECT_GT(off.worst_tilt_deg, 1.2);
   EXPECT_GE(on.props, off.props);
+}
+
+TEST(SupportRules, AnApronInTheBandDoesNotTiltTheTable) {
+  // Unseen 3038 (session 19): a level camera 25 cm above a table 1.2 to 2 m away. The top
+  // of the table's apron, facing the camera below its front edge, lay in the band: 45 % of
+  // the region's pixels, all below the surface. The found plane and the region's own fit
+  // leaned 1.6 degrees toward it, and the right of the table top, above the band there,
+  // came out as two flat slabs. Without the apron's pixels (their neighbourhood faces the
+  // camera) the own fit is the table's.
+  ScanParams without;
+  without.support_fit_facing_deg = 0;
+  const TableFit on = table_fit({3038u}, false, ScanParams{});
+  const TableFit off = table_fit({3038u}, false, without);
+  EXPECT_EQ(on.slabs, 0);
+  EXPECT_GE(off.slabs, 1);
+  EXPECT_LT(on.worst_tilt_deg, 0.3);
+  EXPECT_GT(off.worst_tilt_deg, 1.2);
+  EXPECT_GE(on.props, off.props);
+}
+
+TEST(SupportRules, ARegionKeepsTheFoundPlaneWhenItsOwnFitsItWorse) {
+  // Unseen rooms 7030 and held-out room 5088 (session 19): tables 3 m away whose band,
+  // 10 cm wide there, holds the seat of a chair behind them. The found plane lies within
+  // 0.2 degrees of the truth; the own fit leaned 0.9 to 1.5 degrees toward the seat with a
+  // standard error under 0.05 degrees, and was taken. Its median distance to the pixels
+  // is larger than the found plane's: the found plane stays.
+  ScanParams without;
+  without.support_fit_median_test = false;
+  for (std::uint64_t seed : {7030u, 5088u}) {
+    const TableFit on = table_fit({seed}, true, ScanParams{});
+    const TableFit off = table_fit({seed}, true, without);
+    EXPECT_LT(on.table_tilt_deg, 0.3) << seed;
+    EXPECT_GT(off.table_tilt_deg, 0.7) << seed;
+    EXPECT_EQ(on.props, off.props) << seed;
+  }
 }
 
 TEST(SupportRules, ABoardNearTheTablesHeightIsASupportOfItsOwn) {

@@ -70,6 +70,14 @@ struct ScanParams {
   // ... and when the own fit's tilt is known to within this (its standard error): a
   // shelf's narrow board gives a tilt the noise decides.
   double support_fit_max_se_deg = 0.05;
+  // ... on the pixels whose neighbourhood (5 x 5 grid steps) faces within this angle of
+  // the found plane's normal: a vertical face in the band (a table's apron seen from just
+  // above its height) lies to one side of the surface. 0: every pixel (session 18).
+  double support_fit_facing_deg = 45;
+  // ... and only when it lies nearer the pixels than the found plane does by their median
+  // distance in depth noise units (least median of squares: a chair's seat in a far
+  // table's band leans the fit, and its standard errors do not show it). false: off.
+  bool support_fit_median_test = true;
   double min_support_area_m2 = 0.04;
   // ... and lie at least this far above or below the earlier supports,
   double min_support_gap_m = 0.06;
