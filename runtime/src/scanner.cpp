@@ -1498,13 +1498,13 @@ double median_abs_residual(const std::vector<Vec3>& pts, const PlaneFit& plane) 
 // degrees: which pixels the noise turns up depends on their own depth errors.)
 // One plane through two surfaces a few centimetres apart (a table and a lower cabinet
 // beside it, each its own region) tilts to pass both; each region alone lies flat. The
-// region keeps `joint` unless the joint plane's tilt and height, in the own fit's
+// region keeps `joint` (nullopt) unless the joint plane's tilt and height, in the own fit's
 // standard errors, lie support_fit_sigmas from it and that fit's tilt is known to within
 // support_fit_max_se_deg (a narrow strip's tilt is not: the noise along it is not
 // independent from pixel to pixel).
-PlaneFit region_plane(const Frame& f, const std::vector<int>& members, const PlaneFit& joint,
-                      const ScanParams& params) {
-  if (params.support_fit_sigmas <= 0) return joint;
+std::optional<PlaneFit> region_plane(const Frame& f, const std::vector<int>& members,
+                                     const PlaneFit& joint, const ScanParams& params) {
+  if (params.support_fit_sigmas <= 0) return std::nullopt;
   std::vector<Vec3> in;
   const std::vector<char> facing = facing_plane(f, members, std::max(1, params.pixel_stride),
                                                 joint.n, params.support_fit_facing_deg);
@@ -1527,7 +1527,7 @@ PlaneFit region_plane(const Frame& f, const std::vector<int>& members, const Pla
       if (residual[k] < kTrimSigmas * robust_sigma) kept.push_back(in[k]);
     own = weighted_plane(kept, joint.n);
   }
-  if (!own.fit.ok) return joint;
+  if (!own.fit.ok) return std::nullopt;
   const double z = params.support_fit_sigmas;
   const bool apart = own.joint_chi2(joint) > z * z;
   const bool sure = own.tilt_se() < params.support_fit_max_se_deg * std::numbers::pi / 180;
@@ -1539,7 +1539,8 @@ PlaneFit region_plane(const Frame& f, const std::vector<int>& members, const Pla
   // found plane 0.03).
   const bool better = !params.support_fit_median_test ||
                       median_abs_residual(in, own.fit) < median_abs_residual(in, joint);
-  return apart && sure && near && better && own.fit.d > 0 ? own.fit : joint;
+  if (apart && sure && near && better && own.fit.d > 0) return own.fit;
+  return std::nullopt;
 }
 
 // A region's members once it lies on its own plane: the strided pixels inside its hull
@@ -1860,11 +1861,12 @@ std::vector<int> members_on(const Frame& f, const PlaneRegions& region, const Pl
       if (!holds[r]) continue;
       Found fd;
       fd.regions = std::move(above[r]);
-      fd.plane = region_plane(f, fd.regions.members, plane, params);
-      if (fd.plane.d != plane.d || fd.plane.n.x != plane.n.x || fd.plane.n.y != plane.n.y ||
-          fd.plane.n.z != plane.n.z)
+      fd.plane = plane;
+      if (const std::optional<PlaneFit> own = region_plane(f, fd.regions.members, plane, params)) {
+        fd.plane = *own;
         fd.regions.members =
             members_on(f, fd.regions, fd.plane, params, strided.index, plane_of, k);
+      }
       fd.points = static_cast<int>(fd.regions.members.size()) * stride * stride;
       found.push_back(std::move(fd));
     }
