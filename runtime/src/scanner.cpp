@@ -1342,6 +1342,49 @@ StridedPixels strided_pixels(const Frame& f, const ScanParams& params, int strid
 
 }  // namespace
 
+namespace {
+
+// How far beyond `room` stands_at_far_edge looks for the support's surface, in steps
+// of a centimetre: an object's silhouette overhangs the near edge (a ball's lowest
+// pixels lie in front of its contact, past a table's front edge), and the surface
+// behind it shows within a few centimetres.
+constexpr double kFarEdgeLookAhead = 0.5, kFarEdgeStep = 0.01;
+
+// Whether the cluster stands at or past its support's far edge rather than on it: in
+// more than half of its image columns (at least three) none of the `surface` hulls (the
+// support's regions on its plane: a board seen between objects is several) holds a
+// point from `room(z)` to kFarEdgeLookAhead beyond that behind the column's lowest pixel
+// laid on the plane, along the view. What stands on a surface has the surface under its
+// whole depth, hidden behind its face.
+bool stands_at_far_edge(const Frame& f, const std::vector<int>& grid, const PlaneFit& plane,
+                        const std::vector<const Hull2*>& surface,
+                        const std::function<double(double)>& room) {
+  std::map<int, int> lowest;  // image column -> its lowest pixel
+  for (int i : grid) {
+    auto [it, fresh] = lowest.try_emplace(i % f.width, i);
+    if (!fresh) it->second = std::max(it->second, i);
+  }
+  if (lowest.size() < 3) return false;
+  const auto on_surface = [&](Vec3 q) {
+    return std::any_of(surface.begin(), surface.end(),
+                       [&](const Hull2* h) { return h->contains(q); });
+  };
+  const Vec3 ahead = normalized(Vec3{0, 0, 1} - plane.n * plane.n.z);
+  size_t at_edge = 0;
+  for (const auto& [col, i] : lowest) {
+    const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
+    const Vec3 foot = p - plane.n * (dot(plane.n, p) + plane.d);
+    const double from = room(p.z);
+    bool behind = false;
+    for (double t = from; t <= from + kFarEdgeLookAhead && !behind; t += kFarEdgeStep)
+      behind = on_surface(foot + ahead * t);
+    at_edge += !behind;
+  }
+  return 2 * at_edge > lowest.size();
+}
+
+}  // namespace
+
 // Whether `regions` of `plane` are seen from fewer than grazing_support_deg above it:
 // the camera's height over the plane against the regions' mean range.
 bool seen_at_grazing(const Frame& f, const std::vector<PlaneRegions>& regions,
@@ -2460,6 +2503,20 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // behind the table, a cabinet's side): neither its depth nor its foot is seen.
     const bool panel = upright_panel(f, grid, plane.n, params) &&
                        foot_unseen(f, grid, stride, surface_of, k);
+    // Standing at a raised support's far edge, not on it. The floor runs on unseen, and
+    // a support smaller than furniture is a fragment whose edges are not its surface's.
+    bool at_far_edge = false;
+    if (params.edge_room_factor > 0 && k != static_cast<int>(lowest) &&
+        result.supports[static_cast<size_t>(k)].furniture) {
+      std::vector<const Hull2*> surface;
+      for (const Found& o : found)
+        if (std::abs(o.plane.d - plane.d) < params.plane_distance_m &&
+            dot(o.plane.n, plane.n) >= cos_tilt)
+          surface.push_back(&o.hull);
+      at_far_edge = stands_at_far_edge(f, grid, plane, surface, [&](double z) {
+        return params.edge_room_factor * tolerance(z);
+      });
+    }
     // Seen under, hanging higher than anything of its own hidden beneath it could hold it
     // (a shelf's board on side panels outside the cluster, a lamp's head on its arm).
     const bool hanging = params.partial_when_seen_under &&
@@ -2468,7 +2525,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // hides it: it stands lower, behind the edge, its foot unseen (asked only when no rule
     // above has flagged it).
     const bool unseen =
-        top_hidden || panel || foot_hidden || hanging ||
+        top_hidden || panel || foot_hidden || hanging || at_far_edge ||
         (around && runs_below_support(f, grid, stride, *around, surface_of, k, params));
     accepted.push_back({&grid, k, min_points, unseen});
   }

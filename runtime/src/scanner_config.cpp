@@ -97,6 +97,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"support_slab_check", Kind::flag, nullptr, nullptr, 0, &p.support_slab_check},
       {"panel_noise_factor", Kind::non_negative, &p.panel_noise_factor},
       {"below_support_sigmas", Kind::non_negative, &p.below_support_sigmas},
+      {"edge_room_factor", Kind::non_negative, &p.edge_room_factor},
       {"support_fit_sigmas", Kind::non_negative, &p.support_fit_sigmas},
       {"support_fit_max_se_deg", Kind::non_negative, &p.support_fit_max_se_deg},
       {"support_fit_facing_deg", Kind::angle, &p.support_fit_facing_deg},

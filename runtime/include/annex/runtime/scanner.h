@@ -204,6 +204,15 @@ struct ScanParams {
   // sees its foot. What stands on the support ends at its surface (furniture_rules.h,
   // runs_below_support). 0: off.
   double below_support_sigmas = 3.0;
+  // A cluster on a raised furniture support (its seen hull above furniture_area_m2) is
+  // flagged partial when, in most of its columns, that support's surface (its regions on
+  // its plane) ends less than this many clustering tolerances (the depth noise along
+  // the view) behind its foot: what stands on a surface has the surface under its whole
+  // depth, so it stands at or past the far edge (a chair's back right behind a table
+  // 3.7 m away, its foot hidden by the edge at the table's height). Not asked on the
+  // floor, which runs on unseen under everything, nor on a smaller support, whose seen
+  // part is a fragment with edges of its own. 0: off.
+  double edge_room_factor = 1.0;
   int pixel_stride = 2;             // plane search works on every n-th pixel
   // The hull of the support's visible part is extended to the camera's foot on the
   // plane (objects in front of the visible floor hide the floor under them).
