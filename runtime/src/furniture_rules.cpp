@@ -173,15 +173,20 @@ std::optional<Plane> own_support_around(const Frame& f, const std::vector<int>& 
 }
 
 bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, const Plane& around,
-                         const ScanParams& params) {
+                         const ScanParams& params, const ToleranceAt& band) {
   if (!params.support_slab_check || grid.empty()) return false;
+  // Each point's height in units of the band at its depth: within 1, it is the surface.
   std::vector<double> heights;
   heights.reserve(grid.size());
-  for (int i : grid) heights.push_back(dot(around.normal, at(f, i)) + around.d);
+  for (int i : grid) {
+    const Vec3 p = at(f, i);
+    heights.push_back((dot(around.normal, p) + around.d) /
+                      std::max(params.min_height_m, band(p.z)));
+  }
   const size_t k = heights.size() * 9 / 10;
   std::nth_element(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(k),
                    heights.end());
-  return heights[k] < params.min_height_m;
+  return heights[k] < 1;
 }
 
 bool upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up, const ScanParams& params) {

@@ -102,13 +102,15 @@ std::optional<Plane> own_support_around(const Frame& f, const std::vector<int>& 
                                         Vec3 support_n, const ScanParams& params);
 
 // Whether the cluster is a piece of its own support's surface: nine in ten of its points
-// lie less than params.min_height_m above the support's plane around it
-// (own_support_around). A strip of a table's near edge stands 1 to 6 cm above the
-// support's one plane (unseen 3038, fresh rooms 8037, 8077, 8097, 8104), yet lies on the
-// table's own surface around it. A prop stands above that surface by its height. False
-// with params.support_slab_check off.
+// lie within the support's band at their depth (`band`, params.min_height_m at least)
+// above the support's plane around it (own_support_around), the band every object's
+// pixels lie above. A strip of a table's near edge stands 1 to 6 cm above the support's
+// one plane (unseen 3038, fresh rooms 8037, 8077, 8097, 8104), and a far floor's slab
+// 4 to 8 cm above its tilted plane (rooms 5059, 3.4 m away), yet each lies on its
+// surface around it. A prop stands above that surface by its height. False with
+// params.support_slab_check off.
 bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, const Plane& around,
-                         const ScanParams& params);
+                         const ScanParams& params, const ToleranceAt& band);
 
 // Whether the cluster is one upright flat face: its points' spread along their
 // least-spread direction is at most params.panel_noise_factor times the Kinect's axial

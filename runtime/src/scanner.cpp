@@ -2411,7 +2411,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
         params.support_slab_check || params.below_support_sigmas > 0
             ? own_support_around(f, grid, stride, surface_of, k, plane.n, params)
             : std::nullopt;
-    if (around && lies_on_own_support(f, grid, *around, params)) continue;
+    if (around && lies_on_own_support(f, grid, *around, params,
+                                      [&](double z) { return plane_band(params, z); }))
+      continue;
     // The same body when its top is no support found (a cabinet seen level, its top at
     // a grazing angle): a cluster on the same support has its lowest point at this one's
     // top height, within the noise, its middle over this one's width across the view and

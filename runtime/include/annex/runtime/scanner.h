@@ -184,7 +184,8 @@ struct ScanParams {
   // hidden_foot_min_height_m's rule (furniture_rules.h, hangs_seen_under). false: off.
   bool partial_when_seen_under = true;
   // A cluster lying on the plane fitted to its support's own pixels around it (nine in
-  // ten of its points less than min_height_m above it) is a piece of that support's
+  // ten of its points within the support's band at their depth, min_height_m at least,
+  // above it) is a piece of that support's
   // surface, not a prop: the support's plane, one fit over its whole band, tilts, and a
   // strip of a table's near edge stood above it (furniture_rules.h, lies_on_own_support).
   // false: off.
