@@ -2345,6 +2345,17 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   // independent; each keeps what it accepts and its parts apart, joined in grid order
   // as one thread would give them. Largest grids first: both tests and split cost
   // about their pixels. The loop of one grid keeps the tests' `continue`s.
+  // Per support, the hulls of every support on its plane (its regions) for the far-edge
+  // rule; empty where the rule is not asked: on the floor, which runs on unseen, and on a
+  // support smaller than furniture, a fragment whose edges are not its surface's.
+  std::vector<std::vector<const Hull2*>> surface_hulls(ns);
+  for (size_t k = 0; k < ns && params.edge_room_factor > 0; ++k) {
+    if (k == lowest || !result.supports[k].furniture) continue;
+    for (const Found& o : found)
+      if (std::abs(o.plane.d - found[k].plane.d) < params.plane_distance_m &&
+          dot(o.plane.n, found[k].plane.n) >= cos_tilt)
+        surface_hulls[k].push_back(&o.hull);
+  }
   std::vector<std::vector<Accepted>> accepted_of(grids.size());
   std::vector<std::vector<std::vector<int>>> parts_of(grids.size());
   std::vector<size_t> grid_sizes(grids.size());
@@ -2505,20 +2516,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // behind the table, a cabinet's side): neither its depth nor its foot is seen.
     const bool panel = upright_panel(f, grid, plane.n, params) &&
                        foot_unseen(f, grid, stride, surface_of, k);
-    // Standing at a raised support's far edge, not on it. The floor runs on unseen, and
-    // a support smaller than furniture is a fragment whose edges are not its surface's.
-    bool at_far_edge = false;
-    if (params.edge_room_factor > 0 && k != static_cast<int>(lowest) &&
-        result.supports[static_cast<size_t>(k)].furniture) {
-      std::vector<const Hull2*> surface;
-      for (const Found& o : found)
-        if (std::abs(o.plane.d - plane.d) < params.plane_distance_m &&
-            dot(o.plane.n, plane.n) >= cos_tilt)
-          surface.push_back(&o.hull);
-      at_far_edge = stands_at_far_edge(f, grid, plane, surface, [&](double z) {
-        return params.edge_room_factor * tolerance(z);
-      });
-    }
+    // Standing at a raised support's far edge, not on it (`surface_hulls`).
+    const std::vector<const Hull2*>& surface = surface_hulls[static_cast<size_t>(k)];
+    const bool at_far_edge =
+        !surface.empty() && stands_at_far_edge(f, grid, plane, surface, [&](double z) {
+          return params.edge_room_factor * tolerance(z);
+        });
     // Seen under, hanging higher than anything of its own hidden beneath it could hold it
     // (a shelf's board on side panels outside the cluster, a lamp's head on its arm).
     const bool hanging = params.partial_when_seen_under &&

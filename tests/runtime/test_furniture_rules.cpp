@@ -581,6 +581,21 @@ TableFit table_fit(const std::vector<std::uint64_t>& seeds, bool rooms, const Sc
   return c;
 }
 
+// The rule that `without` turns off takes the table slabs on `seeds` and brings the
+// tilt of the table's objects' supports under `on_max_deg` (over `off_min_deg` without
+// it), and no true object loses its vote.
+void expect_fit_rule_levels_the_table(const std::vector<std::uint64_t>& seeds, bool rooms,
+                                      const ScanParams& without, double on_max_deg,
+                                      double off_min_deg) {
+  const TableFit on = table_fit(seeds, rooms, ScanParams{});
+  const TableFit off = table_fit(seeds, rooms, without);
+  EXPECT_EQ(on.slabs, 0);
+  EXPECT_GE(off.slabs, 1);
+  EXPECT_LT(on.worst_tilt_deg, on_max_deg);
+  EXPECT_GT(off.worst_tilt_deg, off_min_deg);
+  EXPECT_GE(on.props, off.props);
+}
+
 TEST(SupportRules, EachSupportRegionLiesOnItsOwnPlane) {
   // Fresh room 8077 (session 18): a cabinet's top 3.6 cm below the table, nearer the
   // camera, was found with the table as one plane tilted 1.9 degrees to pass both, and a
@@ -589,14 +604,7 @@ TEST(SupportRules, EachSupportRegionLiesOnItsOwnPlane) {
   // pixels (support_fit_sigmas) lies within half a degree of the truth.
   ScanParams without;
   without.support_fit_sigmas = 0;
-  const std::vector<std::uint64_t> seeds{8077u, 5059u};
-  const TableFit on = table_fit(seeds, true, ScanParams{});
-  const TableFit off = table_fit(seeds, true, without);
-  EXPECT_EQ(on.slabs, 0);
-  EXPECT_GE(off.slabs, 1);
-  EXPECT_LT(on.worst_tilt_deg, 0.5);
-  EXPECT_GT(off.worst_tilt_deg, 1.2);
-  EXPECT_GE(on.props, off.props);
+  expect_fit_rule_levels_the_table({8077u, 5059u}, true, without, 0.5, 1.2);
 }
 
 TEST(SupportRules, AnApronInTheBandDoesNotTiltTheTable) {
@@ -608,13 +616,7 @@ TEST(SupportRules, AnApronInTheBandDoesNotTiltTheTable) {
   // camera) the own fit is the table's.
   ScanParams without;
   without.support_fit_facing_deg = 0;
-  const TableFit on = table_fit({3038u}, false, ScanParams{});
-  const TableFit off = table_fit({3038u}, false, without);
-  EXPECT_EQ(on.slabs, 0);
-  EXPECT_GE(off.slabs, 1);
-  EXPECT_LT(on.worst_tilt_deg, 0.3);
-  EXPECT_GT(off.worst_tilt_deg, 1.2);
-  EXPECT_GE(on.props, off.props);
+  expect_fit_rule_levels_the_table({3038u}, false, without, 0.3, 1.2);
 }
 
 TEST(SupportRules, ARegionKeepsTheFoundPlaneWhenItsOwnFitsItWorse) {
