@@ -6,9 +6,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <random>
+#include <sstream>
+#include <string>
 
 namespace annex {
 namespace {
@@ -299,6 +304,71 @@ TEST(ObjectShapeRecognizer, WorksWithoutNormals) {
   ASSERT_FALSE(s.primitives.empty());
   EXPECT_EQ(s.primitives[0].primitive.kind, ShapeKind::cylinder);
   EXPECT_NEAR(s.primitives[0].primitive.dimensions_m[0], 0.05, 0.004);
+}
+
+// A real object as the scanner hands it over (tests/runtime/data/milk_detergent_bottle.txt):
+// the points, their normals and the support's plane.
+struct RealCluster {
+  Cloud cloud;
+  Plane support;
+};
+
+RealCluster read_real_cluster(const std::filesystem::path& path) {
+  RealCluster out;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    if (line.rfind("support", 0) == 0) {
+      std::string word;
+      fields >> word >> out.support.normal.x >> out.support.normal.y >> out.support.normal.z >>
+          out.support.d;
+      continue;
+    }
+    Vec3 p, n;
+    if (fields >> p.x >> p.y >> p.z >> n.x >> n.y >> n.z)
+      out.cloud.points.push_back(p), out.cloud.normals.push_back(n);
+  }
+  return out;
+}
+
+// `plane` turned by `deg` about the horizontal axis at `azimuth` radians from the camera's
+// x axis, through the foot of `at` on it.
+Plane tilted(const Plane& plane, double deg, double azimuth, Vec3 at) {
+  const Vec3 ax = normalized(cross(plane.normal, Vec3{0, 0, 1})), az = cross(ax, plane.normal);
+  const Vec3 about = ax * std::cos(azimuth) + az * std::sin(azimuth);
+  const double a = deg * kPi / 180;
+  const Vec3 n = plane.normal * std::cos(a) + cross(about, plane.normal) * std::sin(a);
+  const Vec3 foot = at - plane.normal * (dot(plane.normal, at) + plane.d);
+  return {n, -dot(n, foot)};
+}
+
+// The real detergent bottle (a handle on its side) is a cylinder covering 65 % of its
+// points. With its floor turned by a tenth of a degree a tighter cylinder of 52 % ranked
+// above that one and the bottle was `unknown`: only a candidate covering min_coverage is
+// chosen when one does. (Turned about three other axes the 65 % cylinder is not fitted at
+// all and the bottle is still `unknown`: docs/BENCHMARKS.md, "Session 21".)
+TEST(ObjectShapeRecognizer, ACandidateCoveringTooLittleDoesNotHideOneThatCovers) {
+  const RealCluster bottle = read_real_cluster(std::filesystem::path(ANNEX_SOURCE_DIR) /
+                                               "tests/runtime/data/milk_detergent_bottle.txt");
+  ASSERT_EQ(bottle.cloud.points.size(), 793u);
+  Vec3 mean{0, 0, 0};
+  for (const Vec3& q : bottle.cloud.points) mean = mean + q;
+  mean = mean * (1.0 / static_cast<double>(bottle.cloud.points.size()));
+  const ShapeRecognizerParams params;
+  for (double azimuth : {0.0, kPi / 4, -kPi / 4}) {
+    const ObjectShape shape = recognize_object_shape(bottle.cloud.points, bottle.cloud.normals,
+                                                     tilted(bottle.support, 0.1, azimuth, mean));
+    ASSERT_FALSE(shape.primitives.empty()) << "turned about azimuth " << azimuth;
+    EXPECT_EQ(shape.primitives[0].primitive.kind, ShapeKind::cylinder);
+    EXPECT_GE(shape.fit, params.min_coverage);
+    // The tighter cylinder is among the candidates, and covers too little.
+    EXPECT_TRUE(
+        std::any_of(shape.candidates.begin(), shape.candidates.end(), [&](const ShapeFit& c) {
+          return c.primitive.kind == ShapeKind::cylinder && c.coverage < params.min_coverage;
+        }));
+  }
 }
 
 TEST(ObjectShapeRecognizerCgal, FindsTheCylinderOfAClearCylinder) {
