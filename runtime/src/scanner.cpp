@@ -1357,8 +1357,7 @@ constexpr double kFarEdgeLookAhead = 0.5, kFarEdgeStep = 0.01;
 // laid on the plane, along the view. What stands on a surface has the surface under its
 // whole depth, hidden behind its face.
 bool stands_at_far_edge(const Frame& f, const std::vector<int>& grid, const PlaneFit& plane,
-                        const std::vector<const Hull2*>& surface,
-                        const std::function<double(double)>& room) {
+                        const std::vector<const Hull2*>& surface, const ToleranceAt& room) {
   std::map<int, int> lowest;  // image column -> its lowest pixel
   for (int i : grid) {
     auto [it, fresh] = lowest.try_emplace(i % f.width, i);
@@ -2516,12 +2515,14 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // behind the table, a cabinet's side): neither its depth nor its foot is seen.
     const bool panel = upright_panel(f, grid, plane.n, params) &&
                        foot_unseen(f, grid, stride, surface_of, k);
-    // Standing at a raised support's far edge, not on it (`surface_hulls`).
+    // Standing at a raised support's far edge, not on it (`surface_hulls`): asked only
+    // when no rule above has flagged it (a look along the view per column).
     const std::vector<const Hull2*>& surface = surface_hulls[static_cast<size_t>(k)];
-    const bool at_far_edge =
-        !surface.empty() && stands_at_far_edge(f, grid, plane, surface, [&](double z) {
-          return params.edge_room_factor * tolerance(z);
-        });
+    const auto at_far_edge = [&] {
+      return !surface.empty() && stands_at_far_edge(f, grid, plane, surface, [&](double z) {
+        return params.edge_room_factor * tolerance(z);
+      });
+    };
     // Seen under, hanging higher than anything of its own hidden beneath it could hold it
     // (a shelf's board on side panels outside the cluster, a lamp's head on its arm).
     const bool hanging = params.partial_when_seen_under &&
@@ -2530,7 +2531,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // hides it: it stands lower, behind the edge, its foot unseen (asked only when no rule
     // above has flagged it).
     const bool unseen =
-        top_hidden || panel || foot_hidden || hanging || at_far_edge ||
+        top_hidden || panel || foot_hidden || hanging || at_far_edge() ||
         (around && runs_below_support(f, grid, stride, *around, surface_of, k, params));
     accepted.push_back({&grid, k, min_points, unseen});
   }
