@@ -9,6 +9,7 @@
 
 #include "annex/runtime/frame.h"
 #include "cylinder_any_axis.h"
+#include "shape_rays.h"
 #include "shape_residuals.h"
 
 #include <Eigen/Dense>
@@ -62,6 +63,12 @@ struct Samples {
   bool has_normals = false;
   double top = 0;  // object height above the plane
   Local eye;       // the camera (the sensor's origin) in plane coordinates
+  // The support's surface seen around the object (SupportAround), with each point's
+  // tolerance, and the image pixels each stands for.
+  std::vector<Local> ground;
+  std::vector<double> ground_tol;
+  double ground_pixels = 1;
+  int foot_points = 0;  // points within kFaceFootHeight of the plane
 };
 
 enum class Model { sphere, cylinder, cone, torus, box, lying_cylinder };
@@ -1649,6 +1656,114 @@ std::optional<Candidate> frustum_under_rim(const Samples& s, const Candidate& cy
   return c;
 }
 
+// Whether the camera saw the support's point g through an upright cylinder's, cone's or
+// box's solid shrunk by `margin` but for its foot (its fit and the noise leave it that
+// unsure): g lies inside the shrunk foot, and the ray from the eye to g enters the shrunk
+// solid before g. In the solid's own frame: centred, axis up, a frustum widening up
+// mirrored (shape_rays.h). Only g inside the foot counts: the table seen behind an object
+// over its top tells how well a primitive follows a rounded top, not what stands there.
+bool seen_through(const Candidate& c, Local eye, Local g, double margin) {
+  // Its foot stays on the support (where g lies): only its top and sides move in.
+  const double zc = 0.5 * (c.h0 + c.h1 - margin), height = c.h1 - c.h0 - margin;
+  const bool mirrored = c.model == Model::cone && c.r0 < c.r1;
+  const CandidateTerms k = terms_of(c);
+  const auto local = [&](Local p) {
+    const double da = p.a - c.ca, db = p.b - c.cb, z = mirrored ? zc - p.h : p.h - zc;
+    return c.model == Model::box ? Vec3{k.cs * da + k.sn * db, -k.sn * da + k.cs * db, z}
+                                 : Vec3{da, db, z};
+  };
+  const Vec3 o = local(eye), q = local(g), ray = q - o;
+  const double length = norm(ray);
+  if (height <= 0 || length <= 0) return false;
+  const Vec3 d = ray * (1 / length);
+  if (c.model == Model::box) {
+    const double ex = c.ex - margin, ey = c.ey - margin;
+    if (ex <= 0 || ey <= 0 || std::abs(q.x) >= ex || std::abs(q.y) >= ey) return false;
+    return shape_rays::hit_box(o, d, {ex, ey, 0.5 * height}).t < length;
+  }
+  // A slanted side moves in by the margin over the cosine of its slope.
+  const double wide = std::max(c.r0, c.r1), narrow = std::min(c.r0, c.r1);
+  const double in = margin * std::sqrt(1 + std::pow((wide - narrow) / (c.h1 - c.h0), 2));
+  if (c.r0 - in <= 0 || len2(q.x, q.y) >= c.r0 - in) return false;
+  const shape_rays::LocalHit hit =
+      c.model == Model::cylinder
+          ? shape_rays::hit_cylinder(o, d, wide - in, height)
+          : shape_rays::hit_cone(o, d, wide - in, height, std::max(0.0, narrow - in));
+  return hit.t < length;
+}
+
+// The height under which an object's points are its foot: a face running down to its
+// support reaches it.
+constexpr double kFaceFootHeight = 0.03;
+
+// Drops from the support's surface around the object the points right under its own
+// lowest points (within kFaceFootHeight of the plane, a point's tolerance across): there
+// the object's face runs on down into the band, its own foot, not the table seen.
+void drop_ground_under_faces(Samples& s) {
+  std::vector<Local> low;
+  for (const Local& p : s.p)
+    if (p.h < kFaceFootHeight) low.push_back(p);
+  s.foot_points = static_cast<int>(low.size());
+  if (low.empty()) return;
+  size_t kept = 0;
+  for (size_t i = 0; i < s.ground.size(); ++i) {
+    const Local& g = s.ground[i];
+    const double t = s.ground_tol[i];
+    const bool under = std::any_of(low.begin(), low.end(), [&](const Local& p) {
+      return std::abs(p.a - g.a) < t && std::abs(p.b - g.b) < t && len2(p.a - g.a, p.b - g.b) < t;
+    });
+    if (under) continue;
+    s.ground[kept] = g;
+    s.ground_tol[kept++] = t;
+  }
+  s.ground.resize(kept);
+  s.ground_tol.resize(kept);
+}
+
+// Image pixels of the support's surface the camera saw through an upright cylinder, cone
+// or box (min_foot_seen_pixels), shrunk by each point's tolerance and
+// foot_seen_model_share of its foot's size; 0 for the other shapes. A box only when the
+// object reaches down to its support (kMinFootPoints of its points within
+// kFaceFootHeight): a box standing on another and overhanging it shows the table under
+// it (OSD learn18) and is still a box, while a body narrowing under its rim (a cup seen
+// from above) has no box's alternative to give way to.
+double foot_seen_pixels(const Samples& s, const Candidate& c, const ShapeRecognizerParams& params) {
+  constexpr int kMinFootPoints = 10;
+  const bool box = c.model == Model::box && s.foot_points >= kMinFootPoints;
+  if (c.model != Model::cylinder && c.model != Model::cone && !box) return 0;
+  const double model = params.foot_seen_model_share * (box ? std::min(c.ex, c.ey) : c.r0);
+  int through = 0;
+  for (size_t i = 0; i < s.ground.size(); ++i)
+    through += seen_through(c, s.eye, s.ground[i], s.ground_tol[i] + model);
+  return through * s.ground_pixels;
+}
+
+// The frustum an upright cylinder contradicted by the support's surface inside its foot
+// gives: its rim on the foot that surface leaves free, the radius inside which the
+// surface is not seen through the cylinder (past the share of those points that the
+// noise puts inside, kFootNoiseShare). A cup widening up seen from above shows the table
+// in the ring between its foot and its rim. Nothing when that foot would not narrow the rim by
+// min_cone_taper or is under min_radius_m (the table seen through a ring's hole).
+std::optional<Candidate> frustum_on_free_foot(const Samples& s, const Candidate& cyl,
+                                              const ShapeRecognizerParams& params) {
+  constexpr double kFootNoiseShare = 0.05;
+  const double model = params.foot_seen_model_share * cyl.r0;
+  std::vector<double> radii;
+  for (size_t i = 0; i < s.ground.size(); ++i)
+    if (seen_through(cyl, s.eye, s.ground[i], s.ground_tol[i] + model))
+      radii.push_back(len2(s.ground[i].a - cyl.ca, s.ground[i].b - cyl.cb));
+  if (radii.empty()) return std::nullopt;
+  const double foot = quantile(radii, kFootNoiseShare);
+  if (foot > (1 - params.min_cone_taper) * cyl.r1 || foot < params.min_radius_m)
+    return std::nullopt;
+  Candidate c = cyl;
+  c.model = Model::cone;
+  c.r0 = foot;
+  c.as_cylinder = false;
+  c.floor_h = -1;
+  return c;
+}
+
 // A cylinder in any orientation whose cross-section through its centre reaches below the
 // plane by more than twice the points' median noise tolerance (the centre's height and
 // the radius are each fitted to within about one) passes through the support it stands
@@ -1695,7 +1810,8 @@ std::vector<int> pick_indices(size_t n, int max_points, std::mt19937_64& rng) {
 
 ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
                                    const std::vector<Vec3>& normals, const Plane& support,
-                                   const ShapeRecognizerParams& params) {
+                                   const ShapeRecognizerParams& params,
+                                   const SupportAround& around) {
   ObjectShape out;
   if (points.size() < 12) return out;
   std::mt19937_64 rng(params.seed);
@@ -1715,9 +1831,21 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   }
   if (s.p.size() < 12) return out;
   s.eye = frame.to_local(Vec3{0, 0, 0});
+  // The support around, an even sample of at most kMostGround points (every k-th).
+  constexpr size_t kMostGround = 4000;
+  const size_t ground_step = around.points.size() / kMostGround + 1;
+  s.ground_pixels = static_cast<double>(std::max(1, around.pixels_per_point) * ground_step);
+  for (size_t i = 0; i < around.points.size(); i += ground_step) {
+    const Vec3& p = around.points[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
+    s.ground.push_back(frame.to_local(p));
+    s.ground_tol.push_back(
+        std::max(params.min_tolerance_m, params.noise_factor * kinect_sigma_z(std::abs(p.z))));
+  }
   std::vector<double> hs;
   for (const Local& p : s.p) hs.push_back(p.h);
   s.top = quantile(hs, 0.99);
+  drop_ground_under_faces(s);
 
   std::vector<int> all(s.p.size());
   std::iota(all.begin(), all.end(), 0);
@@ -1928,6 +2056,44 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
         cands.push_back(*bowl);
         best = static_cast<int>(cands.size()) - 1;
       }
+    }
+  }
+  // A solid cannot be seen through (min_foot_seen_pixels): the best cylinder, cone or box
+  // through which the support's surface was seen gives way, a cylinder to the frustum on
+  // the foot that surface leaves free, else to the next shape. When no shape is left
+  // that covers min_coverage, the first stands: the surface is then no floor of the
+  // object's.
+  if (!s.ground.empty() && best >= 0) {
+    const int first = best;
+    const double least = std::max(
+        static_cast<double>(params.min_foot_seen_pixels),
+        params.min_foot_seen_share * static_cast<double>(around.object_pixels > 0
+                                                             ? around.object_pixels
+                                                             : static_cast<int>(points.size())));
+    std::vector<int> contradicted;
+    while (best >= 0 && foot_seen_pixels(s, cands[best], params) >= least) {
+      const Candidate seen = cands[static_cast<size_t>(best)];
+      cands[static_cast<size_t>(best)].valid = false;
+      contradicted.push_back(best);
+      // The frustum stands when it explains the points as well as the cylinder did (as
+      // frustum_under_rim's): the points alone cannot tell the two apart.
+      if (seen.model == Model::cylinder)
+        if (std::optional<Candidate> cup = frustum_on_free_foot(s, seen, params)) {
+          cands.push_back(*cup);
+          judge(cands.size() - 1);
+          if (cands.back().valid &&
+              cands.back().coverage >= seen.coverage - params.complexity_margin) {
+            best = static_cast<int>(cands.size()) - 1;
+            best_score = rank.back();
+            continue;
+          }
+        }
+      choose(best, best_score);
+    }
+    if (best < 0 || cands[static_cast<size_t>(best)].coverage < params.min_coverage) {
+      for (int i : contradicted) cands[static_cast<size_t>(i)].valid = true;
+      best = first;
+      best_score = rank[static_cast<size_t>(first)];
     }
   }
   // Far away the tolerance (noise_factor x sigma_z) grows until a shape and its rival

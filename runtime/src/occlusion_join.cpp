@@ -81,6 +81,9 @@ void join_occluded_pieces(const Frame& f, std::vector<ScanCluster>& clusters,
       // One primitive of the same kind must explain both pieces together.
       ScanCluster joint;
       joint.support = A.support;  // both pieces stand on one support
+      joint.around = A.around;
+      joint.around.points.insert(joint.around.points.end(), B.around.points.begin(),
+                                 B.around.points.end());
       joint.pixels = A.pixels;
       joint.pixels.insert(joint.pixels.end(), B.pixels.begin(), B.pixels.end());
       std::sort(joint.pixels.begin(), joint.pixels.end());

@@ -764,6 +764,89 @@ std::vector<int> expand_cluster(const Frame& f, const std::vector<int>& grid_pix
   return out;
 }
 
+// Whether a cluster's foot shows: in at least half of its image columns (x0..x1) that
+// show anything one to three rows below its lowest pixel, the first such pixel is of no
+// other cluster. One standing on another (a box on a box) or behind a nearer one does not
+// show where it meets its support.
+bool foot_shows(const Frame& f, const std::vector<int>& pixels, const std::vector<int>& label,
+                int x0, int x1) {
+  constexpr int kRowsBelow = 3;
+  const int own = label[static_cast<size_t>(pixels.front())];
+  std::vector<int> lowest(static_cast<size_t>(x1 - x0 + 1), -1);
+  for (int i : pixels) {
+    int& low = lowest[static_cast<size_t>(i % f.width - x0)];
+    low = std::max(low, i / f.width);
+  }
+  int seen = 0, other = 0;
+  for (int x = x0; x <= x1; ++x) {
+    const int y = lowest[static_cast<size_t>(x - x0)];
+    if (y < 0) continue;
+    for (int r = y + 1; r <= std::min(f.height - 1, y + kRowsBelow); ++r) {
+      const size_t i = static_cast<size_t>(r) * f.width + x;
+      if (!has_depth(f.points[i])) continue;
+      ++seen;
+      other += label[i] >= 0 && label[i] != own;
+      break;
+    }
+  }
+  return 2 * other <= seen;
+}
+
+// The support's surface seen around a cluster (SupportAround, the recognizer's free-space
+// test): the pixels of no cluster in its image box grown by a quarter of its larger side,
+// on the support's plane within the depth noise (plane_noise_factor sigma_z, at most
+// min_height_m: an object's own lowest pixels lie in the band above it), and not
+// enclosed by clusters' pixels along both their row and their column (an open
+// container's inner floor, inside its rim and its far wall, a cluster of its own when the
+// floor parts them). Empty when the cluster's foot does not show (foot_shows). A small box
+// is read whole; a large one every k-th row and column, so at most about kMostVisited
+// pixels are visited.
+SupportAround support_around(const Frame& f, const std::vector<int>& pixels,
+                             const std::vector<int>& label, const Plane& support,
+                             const ScanParams& params) {
+  constexpr long long kMostVisited = 40000;
+  SupportAround out;
+  if (pixels.empty()) return out;
+  int x0 = f.width, x1 = 0, y0 = f.height, y1 = 0;
+  for (int i : pixels) {
+    x0 = std::min(x0, i % f.width), x1 = std::max(x1, i % f.width);
+    y0 = std::min(y0, i / f.width), y1 = std::max(y1, i / f.width);
+  }
+  const Vec3 n = normalized(support.normal);
+  const double d = support.d / norm(support.normal);
+  if (!foot_shows(f, pixels, label, x0, x1)) return out;
+  const int grow = std::max(x1 - x0, y1 - y0) / 4 + 1;
+  x0 = std::max(0, x0 - grow), x1 = std::min(f.width - 1, x1 + grow);
+  y0 = std::max(0, y0 - grow), y1 = std::min(f.height - 1, y1 + grow);
+  const int bw = x1 - x0 + 1, bh = y1 - y0 + 1;
+  int step = 1;
+  while (static_cast<long long>(bw) * bh > kMostVisited * step * step) ++step;
+  out.pixels_per_point = step * step;
+  out.object_pixels = static_cast<int>(pixels.size());
+  // The clusters' extent along each visited row and column of the box.
+  std::vector<int> row_lo(static_cast<size_t>(bh), f.width), row_hi(row_lo.size(), -1);
+  std::vector<int> col_lo(static_cast<size_t>(bw), f.height), col_hi(col_lo.size(), -1);
+  for (int y = y0; y <= y1; y += step)
+    for (int x = x0; x <= x1; x += step)
+      if (label[static_cast<size_t>(y) * f.width + x] >= 0) {
+        const size_t u = static_cast<size_t>(x - x0), v = static_cast<size_t>(y - y0);
+        row_lo[v] = std::min(row_lo[v], x), row_hi[v] = std::max(row_hi[v], x);
+        col_lo[u] = std::min(col_lo[u], y), col_hi[u] = std::max(col_hi[u], y);
+      }
+  for (int y = y0; y <= y1; y += step)
+    for (int x = x0; x <= x1; x += step) {
+      const size_t i = static_cast<size_t>(y) * f.width + x;
+      const size_t u = static_cast<size_t>(x - x0), v = static_cast<size_t>(y - y0);
+      const bool enclosed = row_lo[v] < x && x < row_hi[v] && col_lo[u] < y && y < col_hi[u];
+      if (label[i] >= 0 || enclosed || !has_depth(f.points[i])) continue;
+      const Vec3 p = to_vec(f.points[i]);
+      const double h = dot(n, p) + d;
+      const double noise = params.plane_noise_factor * kinect_sigma_z(p.z);
+      if (std::abs(h) < std::min(noise, params.min_height_m)) out.points.push_back(p);
+    }
+  return out;
+}
+
 // MLS of order 1 on a deterministic subsample of a cluster: for each sampled pixel,
 // the covariance of same-cluster grid neighbours within the radius gives a local
 // plane; the point moves onto it and takes its normal (oriented to the camera).
@@ -2595,6 +2678,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     ScanCluster& sc = result.clusters[c];
     sc.pixels = clusters[c].pixels;
     sc.support = result.supports[static_cast<size_t>(clusters[c].support)].surface.plane;
+    sc.around = support_around(f, sc.pixels, label, sc.support, params);
     smooth_cluster(f, sc.pixels, label, static_cast<int>(c), params, sc.points, normals[c]);
   }, &mls_order);
   result.stages.push_back({"mls", ms_since(t0)});
@@ -2655,7 +2739,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   const auto seen_whole = [&](const ScanCluster& sc) { return !cut_or_hidden(sc.pixels); };
   const auto refit_part = [&](ScanCluster& sc, std::vector<Vec3>& n) {
     smooth_part(f, sc.pixels, params, sc.points, n);
-    sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape);
+    sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape, sc.around);
   };
   const TouchingSplitParams touching{.max_whole_coverage = params.touching_max_coverage,
                                      .min_part_size_m = params.touching_min_part_size_m,
@@ -2663,7 +2747,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   std::vector<std::optional<TouchingCut>> cuts(clusters.size());
   parallel_for(clusters.size(), [&](size_t c) {
     ScanCluster& sc = result.clusters[c];
-    sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape);
+    sc.shape = recognize_object_shape(sc.points, normals[c], sc.support, params.shape, sc.around);
     cuts[c] = touching_cut(f, sc, refit_part, seen_whole, params.shape, touching);
   }, &fit_order);
   for (size_t c = 0, count = cuts.size(); c < count; ++c) {
@@ -2736,7 +2820,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
         [&](ScanCluster& sc, int id) {
           std::vector<Vec3> n;
           smooth_cluster(f, sc.pixels, label, id, params, sc.points, n);
-          sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape);
+          sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape, sc.around);
         },
         params.shape.min_coverage);
   }

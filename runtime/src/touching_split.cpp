@@ -271,6 +271,9 @@ std::optional<TouchingCut> touching_cut(
     return params.waist_share > 0 && footprint_waist(means, params.waist_share);
   };
   if (!misfit_on_one_side(f, cluster, side, shape) && !narrows()) return std::nullopt;
+  // The parts take no free-space test (ScanCluster::around): the support seen around
+  // the whole is not what is seen around each, and the upper of two stacked bodies
+  // stands on the lower.
   ScanCluster a, b;
   a.support = b.support = cluster.support;
   for (size_t k = 0; k < side.size(); ++k) (side[k] ? b : a).pixels.push_back(cluster.pixels[k]);

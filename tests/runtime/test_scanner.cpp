@@ -321,6 +321,9 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->shape.max_fit_points, d.shape.max_fit_points);
   EXPECT_EQ(p->shape.box_azimuth_doubt_m, d.shape.box_azimuth_doubt_m);
   EXPECT_EQ(p->shape.refine_sample_points, d.shape.refine_sample_points);
+  EXPECT_EQ(p->shape.min_foot_seen_pixels, d.shape.min_foot_seen_pixels);
+  EXPECT_EQ(p->shape.min_foot_seen_share, d.shape.min_foot_seen_share);
+  EXPECT_EQ(p->shape.foot_seen_model_share, d.shape.foot_seen_model_share);
   EXPECT_EQ(p->shape.seed, d.shape.seed);
   EXPECT_EQ(p->max_planes, d.max_planes);
   EXPECT_EQ(p->support_reach_m, d.support_reach_m);

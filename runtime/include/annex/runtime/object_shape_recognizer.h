@@ -77,6 +77,21 @@ struct ShapeRecognizerParams {
   // min_foot_share of its rim would hide its side from the camera.
   double max_side_seen_share = 0.1;
   double min_foot_share = 0.3;
+  // A solid cannot be seen through: an upright cylinder, cone or box through which the
+  // camera saw the support's surface (SupportAround) inside its foot, by at least this
+  // many pixels and this share of the object's pixels, is not what stands there (a cup
+  // widening up seen from above, read as the cylinder of its rim: the table shows in the
+  // ring between its foot and its rim; a ball read as a box: the table shows in the box's
+  // near corners). A cylinder so contradicted offers the frustum on the foot the
+  // support's surface leaves free. A box is asked only of an object that reaches down to
+  // its support: one standing on another box and overhanging it shows the table under
+  // it and is still a box.
+  int min_foot_seen_pixels = 20;
+  double min_foot_seen_share = 0.05;
+  // The solid is shrunk, for that test, by each point's tolerance and this share of its
+  // foot's radius (a box: of its shorter half side): a primitive fitted to a real body
+  // (a dome read as a cone, a box's rounded edges) misses its outline by that much.
+  double foot_seen_model_share = 0.1;
   // At most this many points enter the fits (a deterministic subsample).
   int max_fit_points = 800;
   // The cone's Levenberg-Marquardt runs first on an even subsample of at most this many
@@ -113,11 +128,23 @@ struct ObjectShape {
   std::vector<ShapeFit> candidates;
 };
 
+// The support's surface seen around an object's foot: its points in the sensor frame
+// (pixels of no object, on the support within its depth noise), each standing for
+// `pixels_per_point` image pixels (a strided sample), and the object's own pixel count
+// (min_foot_seen_share's base; 0: its points' count).
+struct SupportAround {
+  std::vector<Vec3> points;
+  int pixels_per_point = 1;
+  int object_pixels = 0;
+};
+
 // Points (and optional unit normals, same size or empty) of one object in the sensor
-// frame; `support` is the plane it rests on, normal pointing up (away from the table).
+// frame; `support` is the plane it rests on, normal pointing up (away from the table);
+// `around` the support's surface seen around it (empty: no free-space test).
 ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
                                    const std::vector<Vec3>& normals, const Plane& support,
-                                   const ShapeRecognizerParams& params = {});
+                                   const ShapeRecognizerParams& params = {},
+                                   const SupportAround& around = {});
 
 // Whether p lies inside the fitted solid grown by `margin` metres on every side
 // (sphere, cylinder, cone and torus by their bounding cylinder about the axis).

@@ -346,6 +346,7 @@ struct ScanCluster {
   ObjectShape shape;
   Plane support;               // the plane it stands on
   int on_object = -1;          // index of the object whose top it stands on, -1: the support
+  SupportAround around;        // its support's surface seen around it (the shape's free space)
 };
 
 // A support found in the frame, with its hull (on its plane) for overlays.
