@@ -718,8 +718,19 @@ bool continues_above(const Frame& f, const std::vector<int>& grid_pixels, int st
       joins += ex * ex + ey * ey + ez * ez <= tol2;
     }
   }
-  // A few joins suffice for a thin leg seen from afar (a handful of grid pixels wide).
-  return joins >= std::max<size_t>(8, grid_pixels.size() / 50);
+  // A few joins suffice for a thin leg seen from afar (a handful of grid pixels wide),
+  // and a tall thin post joins along its top edge alone (cut_join_column_share).
+  size_t asked = grid_pixels.size() / 50;
+  if (params.cut_join_column_share > 0) {
+    std::vector<int> columns;
+    columns.reserve(grid_pixels.size());
+    for (int i : grid_pixels) columns.push_back(i % f.width);
+    std::sort(columns.begin(), columns.end());
+    const auto width =
+        static_cast<double>(std::unique(columns.begin(), columns.end()) - columns.begin());
+    asked = std::min(asked, static_cast<size_t>(params.cut_join_column_share * width));
+  }
+  return joins >= std::max<size_t>(8, asked);
 }
 
 // Whether pixel q (with depth) belongs with the cluster's grid pixel c in its block:

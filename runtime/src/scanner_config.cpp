@@ -110,6 +110,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"min_whole_points", Kind::whole, nullptr, &p.min_whole_points, 0},
       {"hull_to_camera", Kind::flag, nullptr, nullptr, 0, &p.hull_to_camera},
       {"drop_cut_clusters", Kind::flag, nullptr, nullptr, 0, &p.drop_cut_clusters},
+      {"cut_join_column_share", Kind::unit_share, &p.cut_join_column_share},
       {"shape_min_tolerance_m", Kind::positive, &p.shape.min_tolerance_m},
       {"shape_noise_factor", Kind::non_negative, &p.shape.noise_factor},
       {"shape_min_coverage", Kind::unit_share, &p.shape.min_coverage},

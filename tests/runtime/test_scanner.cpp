@@ -313,6 +313,7 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->plane_noise_factor, d.plane_noise_factor);
   EXPECT_EQ(p->hull_margin_m, d.hull_margin_m);
   EXPECT_EQ(p->drop_cut_clusters, d.drop_cut_clusters);
+  EXPECT_EQ(p->cut_join_column_share, d.cut_join_column_share);
   EXPECT_EQ(p->part_margin_m, d.part_margin_m);
   EXPECT_EQ(p->part_share, d.part_share);
   EXPECT_EQ(p->overhang_margin_m, d.overhang_margin_m);
