@@ -44,6 +44,9 @@ ScanParams alone() {
   p.below_support_sigmas = 0;
   // Nor what stands at a raised support's far edge (session 20).
   p.edge_room_factor = 0;
+  // Nor does a cluster run on above the band by its top edge's columns (session 22): that
+  // takes the wardrobes' slices of AWardrobeCutByTheHeightBandIsNoProp too.
+  p.cut_join_column_share = 0;
   return p;
 }
 
@@ -663,6 +666,14 @@ TEST(FurnitureRules, ATallThinPostRunsOnAboveTheBandAlongItsTopEdge) {
   EXPECT_EQ(on.whole, 0);
   EXPECT_EQ(off.whole, 1);
   EXPECT_EQ(on.found, off.found);
+  // The wardrobes' slices of AWardrobeCutByTheHeightBandIsNoProp join along their top
+  // edge alone too: without cut_top_share, the columns' share takes them.
+  ScanParams columns = alone();
+  columns.cut_top_share = 0;
+  columns.cut_join_column_share = ScanParams{}.cut_join_column_share;
+  ScanParams neither = alone();
+  neither.cut_top_share = 0;
+  expect_rule_takes({5005u, 5009u, 5077u, 3004u}, false, kLabelFurniture, columns, neither, 3);
 }
 
 TEST(FurnitureRules, APostSlantedInTheImageIsCutByTheBand) {
