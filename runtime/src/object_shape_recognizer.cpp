@@ -1662,11 +1662,10 @@ std::optional<Candidate> frustum_under_rim(const Samples& s, const Candidate& cy
 // solid before g. In the solid's own frame: centred, axis up, a frustum widening up
 // mirrored (shape_rays.h). Only g inside the foot counts: the table seen behind an object
 // over its top tells how well a primitive follows a rounded top, not what stands there.
-bool seen_through(const Candidate& c, Local eye, Local g, double margin) {
+bool seen_through(const Candidate& c, const CandidateTerms& k, Local eye, Local g, double margin) {
   // Its foot stays on the support (where g lies): only its top and sides move in.
   const double zc = 0.5 * (c.h0 + c.h1 - margin), height = c.h1 - c.h0 - margin;
   const bool mirrored = c.model == Model::cone && c.r0 < c.r1;
-  const CandidateTerms k = terms_of(c);
   const auto local = [&](Local p) {
     const double da = p.a - c.ca, db = p.b - c.cb, z = mirrored ? zc - p.h : p.h - zc;
     return c.model == Model::box ? Vec3{k.cs * da + k.sn * db, -k.sn * da + k.cs * db, z}
@@ -1705,13 +1704,18 @@ void drop_ground_under_faces(Samples& s) {
     if (p.h < kFaceFootHeight) low.push_back(p);
   s.foot_points = static_cast<int>(low.size());
   if (low.empty()) return;
+  // Sorted along a, each surface point asks only the low points within its tolerance
+  // there (the surface's thousands against the foot's hundreds, per object and frame).
+  std::sort(low.begin(), low.end(), [](const Local& x, const Local& y) { return x.a < y.a; });
   size_t kept = 0;
   for (size_t i = 0; i < s.ground.size(); ++i) {
     const Local& g = s.ground[i];
     const double t = s.ground_tol[i];
-    const bool under = std::any_of(low.begin(), low.end(), [&](const Local& p) {
-      return std::abs(p.a - g.a) < t && std::abs(p.b - g.b) < t && len2(p.a - g.a, p.b - g.b) < t;
-    });
+    const auto from = std::lower_bound(low.begin(), low.end(), g.a - t,
+                                       [](const Local& p, double a) { return p.a < a; });
+    bool under = false;
+    for (auto p = from; p != low.end() && p->a < g.a + t && !under; ++p)
+      under = len2(p->a - g.a, p->b - g.b) < t;
     if (under) continue;
     s.ground[kept] = g;
     s.ground_tol[kept++] = t;
@@ -1720,38 +1724,37 @@ void drop_ground_under_faces(Samples& s) {
   s.ground_tol.resize(kept);
 }
 
-// Image pixels of the support's surface the camera saw through an upright cylinder, cone
-// or box (min_foot_seen_pixels), shrunk by each point's tolerance and
-// foot_seen_model_share of its foot's size; 0 for the other shapes. A box only when the
-// object reaches down to its support (kMinFootPoints of its points within
+// The distances from the axis of the support's points the camera saw through an upright
+// cylinder, cone or box (min_foot_seen_pixels), its solid shrunk by each point's
+// tolerance and foot_seen_model_share of its foot's size; none for the other shapes. A box
+// only when the object reaches down to its support (kMinFootPoints of its points within
 // kFaceFootHeight): a box standing on another and overhanging it shows the table under
 // it (OSD learn18) and is still a box, while a body narrowing under its rim (a cup seen
 // from above) has no box's alternative to give way to.
-double foot_seen_pixels(const Samples& s, const Candidate& c, const ShapeRecognizerParams& params) {
+std::vector<double> seen_through_radii(const Samples& s, const Candidate& c,
+                                       const ShapeRecognizerParams& params) {
   constexpr int kMinFootPoints = 10;
   const bool box = c.model == Model::box && s.foot_points >= kMinFootPoints;
-  if (c.model != Model::cylinder && c.model != Model::cone && !box) return 0;
+  if (c.model != Model::cylinder && c.model != Model::cone && !box) return {};
+  const CandidateTerms k = terms_of(c);
   const double model = params.foot_seen_model_share * (box ? std::min(c.ex, c.ey) : c.r0);
-  int through = 0;
-  for (size_t i = 0; i < s.ground.size(); ++i)
-    through += seen_through(c, s.eye, s.ground[i], s.ground_tol[i] + model);
-  return through * s.ground_pixels;
-}
-
-// The frustum an upright cylinder contradicted by the support's surface inside its foot
-// gives: its rim on the foot that surface leaves free, the radius inside which the
-// surface is not seen through the cylinder (past the share of those points that the
-// noise puts inside, kFootNoiseShare). A cup widening up seen from above shows the table
-// in the ring between its foot and its rim. Nothing when that foot would not narrow the rim by
-// min_cone_taper or is under min_radius_m (the table seen through a ring's hole).
-std::optional<Candidate> frustum_on_free_foot(const Samples& s, const Candidate& cyl,
-                                              const ShapeRecognizerParams& params) {
-  constexpr double kFootNoiseShare = 0.05;
-  const double model = params.foot_seen_model_share * cyl.r0;
   std::vector<double> radii;
   for (size_t i = 0; i < s.ground.size(); ++i)
-    if (seen_through(cyl, s.eye, s.ground[i], s.ground_tol[i] + model))
-      radii.push_back(len2(s.ground[i].a - cyl.ca, s.ground[i].b - cyl.cb));
+    if (seen_through(c, k, s.eye, s.ground[i], s.ground_tol[i] + model))
+      radii.push_back(len2(s.ground[i].a - c.ca, s.ground[i].b - c.cb));
+  return radii;
+}
+
+// The frustum an upright cylinder gives when the support's surface was seen through it
+// at `radii` from its axis: its rim on the foot that surface leaves free, the radius
+// inside which the surface is not seen (past the share of those points that the noise
+// puts inside, kFootNoiseShare). A cup widening up seen from above shows the table in the
+// ring between its foot and its rim. Nothing when that foot would not narrow the rim by
+// min_cone_taper or is under min_radius_m (the table seen through a ring's hole).
+std::optional<Candidate> frustum_on_free_foot(const Candidate& cyl,
+                                              const std::vector<double>& radii,
+                                              const ShapeRecognizerParams& params) {
+  constexpr double kFootNoiseShare = 0.05;
   if (radii.empty()) return std::nullopt;
   const double foot = quantile(radii, kFootNoiseShare);
   if (foot > (1 - params.min_cone_taper) * cyl.r1 || foot < params.min_radius_m)
@@ -2071,14 +2074,16 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
                                                              ? around.object_pixels
                                                              : static_cast<int>(points.size())));
     std::vector<int> contradicted;
-    while (best >= 0 && foot_seen_pixels(s, cands[best], params) >= least) {
+    while (best >= 0) {
       const Candidate seen = cands[static_cast<size_t>(best)];
+      const std::vector<double> radii = seen_through_radii(s, seen, params);
+      if (static_cast<double>(radii.size()) * s.ground_pixels < least) break;
       cands[static_cast<size_t>(best)].valid = false;
       contradicted.push_back(best);
       // The frustum stands when it explains the points as well as the cylinder did (as
       // frustum_under_rim's): the points alone cannot tell the two apart.
       if (seen.model == Model::cylinder)
-        if (std::optional<Candidate> cup = frustum_on_free_foot(s, seen, params)) {
+        if (std::optional<Candidate> cup = frustum_on_free_foot(seen, radii, params)) {
           cands.push_back(*cup);
           judge(cands.size() - 1);
           if (cands.back().valid &&

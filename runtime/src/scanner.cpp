@@ -2835,6 +2835,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
         },
         params.shape.min_coverage);
   }
+  // The shapes are fitted: the surface around each cluster served its fits alone, and the
+  // result does not carry it.
+  for (ScanCluster& sc : result.clusters) sc.around = {};
   if (!stacked.empty()) {
     // The label rebuilt above still holds when no pieces joined (a join removes one;
     // a rejected one gives its pixels back).

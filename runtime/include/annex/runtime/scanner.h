@@ -352,7 +352,8 @@ struct ScanCluster {
   ObjectShape shape;
   Plane support;               // the plane it stands on
   int on_object = -1;          // index of the object whose top it stands on, -1: the support
-  SupportAround around;        // its support's surface seen around it (the shape's free space)
+  SupportAround around;        // its support's surface seen around it, while its shape is
+                               // fitted (the shape's free space); empty in a ScanResult
 };
 
 // A support found in the frame, with its hull (on its plane) for overlays.
