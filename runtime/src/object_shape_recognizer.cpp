@@ -63,6 +63,7 @@ struct Samples {
   bool has_normals = false;
   double top = 0;  // object height above the plane
   Local eye;       // the camera (the sensor's origin) in plane coordinates
+  bool own_side_hides = true;  // ShapeRecognizerParams::own_side_hides
   // The support's surface seen around the object (SupportAround), with each point's
   // tolerance, and the image pixels each stands for.
   std::vector<Local> ground;
@@ -200,6 +201,38 @@ bool behind_sphere(const Candidate& c, const Local& p, const Local& eye, double 
   return behind > tol;
 }
 
+// A closed solid hides its own far side: a point that the ray from the eye reaches only
+// through an upright cylinder's or cone's side (the solid shrunk by the point's
+// tolerance, which the fit and the noise leave unsure) is no point of that solid
+// (ShapeRecognizerParams::own_side_hides). Through its top it may be one: the far inner
+// wall of an open cup, pot or bowl seen over its rim. Boxes are not asked: a box fitted
+// to one face has its depth unseen, and the real nyu_basement frame's bags in an open
+// carton, one partial box, were then cut into two whole props.
+bool hidden_by_own_side(const Candidate& c, const CandidateTerms& k, const Local& p,
+                        const Local& eye, double tol) {
+  if (c.model != Model::cylinder && c.model != Model::cone) return false;
+  const double height = c.h1 - c.h0 - 2 * tol, zc = 0.5 * (c.h0 + c.h1);
+  // A slanted side moves in by the tolerance over the cosine of its slope.
+  const double wide = std::max(c.r0, c.r1), narrow = std::min(c.r0, c.r1), in = tol / k.cos_a;
+  if (height <= 0 || wide <= in) return false;
+  // A frustum widening up is mirrored so that it narrows to +z (shape_rays.h): its open
+  // top is then the base.
+  const bool mirrored = c.model == Model::cone && c.r0 < c.r1;
+  const auto local = [&](Local q) {
+    return Vec3{q.a - c.ca, q.b - c.cb, mirrored ? zc - q.h : q.h - zc};
+  };
+  const Vec3 o = local(eye), ray = local(p) - o;
+  const double length = norm(ray);
+  if (length <= 0) return false;
+  const Vec3 d = ray * (1 / length);
+  const shape_rays::LocalHit hit =
+      c.model == Model::cylinder
+          ? shape_rays::hit_cylinder(o, d, wide - in, height)
+          : shape_rays::hit_cone(o, d, wide - in, height, std::max(0.0, narrow - in));
+  if (hit.t >= length) return false;
+  return hit.normal.z * (mirrored ? -1.0 : 1.0) < 0.5;  // through its side or base, not its top
+}
+
 // Inside the upper third of a box or cylinder: where lids, gables and caps sit.
 bool in_lid(const Candidate& c, const CandidateTerms& k, const Local& p) {
   if (c.model != Model::box && c.model != Model::cylinder) return false;
@@ -240,7 +273,8 @@ void evaluate(Candidate& c, const Samples& s) {
     count[g] += 1;
     const double d = distance(c, terms, s.p[i]);
     const double e = d / s.tol[i];
-    if (e < 1 && !behind_sphere(c, s.p[i], s.eye, s.tol[i])) {
+    if (e < 1 && !behind_sphere(c, s.p[i], s.eye, s.tol[i]) &&
+        !(s.own_side_hides && hidden_by_own_side(c, terms, s.p[i], s.eye, s.tol[i]))) {
       score[g] += 1 - e * e;
       sq += d * d;
       covered[g] += 1;
@@ -651,9 +685,11 @@ Candidate fit_cylinder(const Samples& s, const std::vector<int>& subset, double 
 // short of it by no more than cone_taper_doubt standard errors of the measured narrowing
 // (taper_error(), asked only then): a frustum as tapered as that measures, through the
 // noise, as often under it as over it.
+// With `to_apex`, a side narrowing to a small top runs on to its apex.
 template <typename TaperError>
 Candidate cone_from_parameters(const Candidate& span_ref, const std::array<double, 4>& x,
-                               const ShapeRecognizerParams& params, TaperError taper_error) {
+                               const ShapeRecognizerParams& params, TaperError taper_error,
+                               bool to_apex = true) {
   Candidate c = span_ref;
   c.ca = x[0];
   c.cb = x[1];
@@ -661,7 +697,7 @@ Candidate cone_from_parameters(const Candidate& span_ref, const std::array<doubl
   c.r1 = std::max(0.0, x[3]);
   // The tip of a cone is too thin to see: when the side narrows to a small top,
   // extend it to the apex where the fitted radius reaches zero.
-  if (c.r1 < 0.35 * c.r0 && c.r0 > c.r1) {
+  if (to_apex && c.r1 < 0.35 * c.r0 && c.r0 > c.r1) {
     c.h1 = c.h0 + (c.h1 - c.h0) * c.r0 / (c.r0 - c.r1);
     c.r1 = 0;
   }
@@ -867,6 +903,17 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
     return taper_se;
   };
   c = cone_from_parameters(span_ref, x, params, error);
+  // A tip run on to the apex leaves out the small flat top the camera saw under it, and
+  // hides it (hidden_by_own_side; rooms 8022: a frustum 12 cm tall read as a cone 19 cm
+  // tall): the frustum as fitted, when it explains clearly more.
+  if (c.valid && c.r1 == 0 && x[3] > 0) {
+    Candidate frustum = cone_from_parameters(span_ref, x, params, error, false);
+    if (frustum.valid) {
+      evaluate(c, s);
+      evaluate(frustum, s);
+      if (frustum.score > c.score + params.complexity_margin) c = frustum;
+    }
+  }
   // Started from a poor cylinder (a flat bowl seen from the side, a flat cone's side
   // read as a wider cylinder), the fit can run off to a cone wider than any of its points
   // or than any prop (a radius of metres whose arc follows the side): a second start
@@ -1834,6 +1881,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   }
   if (s.p.size() < 12) return out;
   s.eye = frame.to_local(Vec3{0, 0, 0});
+  s.own_side_hides = params.own_side_hides;
   // The support around, an even sample of at most kMostGround points (every k-th).
   constexpr size_t kMostGround = 4000;
   const size_t ground_step = around.points.size() / kMostGround + 1;

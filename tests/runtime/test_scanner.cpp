@@ -325,6 +325,7 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->shape.min_foot_seen_pixels, d.shape.min_foot_seen_pixels);
   EXPECT_EQ(p->shape.min_foot_seen_share, d.shape.min_foot_seen_share);
   EXPECT_EQ(p->shape.foot_seen_model_share, d.shape.foot_seen_model_share);
+  EXPECT_EQ(p->shape.own_side_hides, d.shape.own_side_hides);
   EXPECT_EQ(p->shape.seed, d.shape.seed);
   EXPECT_EQ(p->max_planes, d.max_planes);
   EXPECT_EQ(p->support_reach_m, d.support_reach_m);

@@ -727,6 +727,10 @@ TEST(ScannerRooms, APieceThatTurnsItsOwnerIntoAnotherShapeIsGivenBack) {
   for (int k = 0; k < 2; ++k) {
     ScanParams p;
     p.part_fit_slack = k == 1 ? ScanParams{}.part_fit_slack : 1.0;
+    // With a solid hiding its own far side (shape_own_side_hides, session 23) the merged
+    // torus's refit is no cylinder, and it stays a torus without the rule too. Off, to
+    // see this rule alone.
+    p.shape.own_side_hides = false;
     const Result<ScanResult> scan = scan_frame(f.frame, p);
     ASSERT_TRUE(scan.ok());
     // The torus's object: the biggest of the clusters mostly its pixels.

@@ -92,6 +92,11 @@ struct ShapeRecognizerParams {
   // foot's radius (a box: of its shorter half side): a primitive fitted to a real body
   // (a dome read as a cone, a box's rounded edges) misses its outline by that much.
   double foot_seen_model_share = 0.1;
+  // A closed solid hides its own far side: a point the camera could see only through
+  // an upright cylinder's or cone's side is not explained by it (through its top it may
+  // be: the inside of a cup). A cylinder wider than two touching bodies, its axis
+  // nearer than their faces, otherwise follows their fronts from its far inside.
+  bool own_side_hides = true;
   // At most this many points enter the fits (a deterministic subsample).
   int max_fit_points = 800;
   // The cone's Levenberg-Marquardt runs first on an even subsample of at most this many
