@@ -2370,6 +2370,34 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   };
   // The clustering tolerance at a depth, for the rules that compare depths.
   const auto tolerance = [&](double z) { return cluster_tolerance(params, z); };
+  // The support higher than a cluster's own (k) on whose plane its lowest point lies,
+  // within that support's reach and not past its far edge; -1 none.
+  const auto foot_support = [&](const std::vector<int>& grid, int k) {
+    const PlaneFit& own = found[static_cast<size_t>(k)].plane;
+    Vec3 low{0, 0, 0};
+    double low_h = 1e9;
+    for (int i : grid) {
+      const Vec3 p = to_vec(f.points[i]);
+      const double h = dot(own.n, p) + own.d;
+      if (h < low_h) low_h = h, low = p;
+    }
+    // An object's lowest pixels lie in its support's band, which is no cluster's.
+    const double band = plane_band(params, low.z);
+    const double on = std::max(params.min_height_m, band) + tolerance(low.z);
+    int foot = -1;
+    double best = 1e9;
+    for (size_t o = 0; o < ns; ++o) {
+      const Found& fd = found[o];
+      if (static_cast<int>(o) == k || fd.plane.d >= own.d - on || dot(fd.plane.n, own.n) < cos_tilt)
+        continue;
+      const double h = dot(fd.plane.n, low) + fd.plane.d;
+      if (h < -band || h > on || std::abs(h) >= best) continue;
+      if (!fd.hull.contains(low) && (!fd.reach.contains(low) || beyond_far_edge(fd, low))) continue;
+      foot = static_cast<int>(o);
+      best = std::abs(h);
+    }
+    return foot;
+  };
   // An object across its support's edge is a prop, which ends below the band's top: a
   // cluster with pixels beyond the hull that reaches within the clustering tolerance of
   // the band's top ran on into what stands beside the support (a wall, a wardrobe's
@@ -2387,14 +2415,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     if (tall) grid.erase(std::remove_if(grid.begin(), grid.end(), is_beyond), grid.end());
   }
   // A dark object's fragments, parted by its missing depth, joined (dropout_join.h).
-  const std::vector<std::vector<int>> grids = join_dropout_fragments(
-      f, mask, std::move(grown_grids), stride, tolerance, least_points, DropoutJoinParams{params.dropout_max_gap_px});
-  // Which supports hold something: a cluster big enough to be an object stands on them
-  // (selected or not: the choice of supports does not change what furniture is).
-  std::vector<char> holds(ns, 0);
-  for (const std::vector<int>& grid : grids)
-    if (static_cast<int>(grid.size()) * stride * stride >= least_points(grid) / 2)
-      holds[static_cast<size_t>(mask[grid.front()] - 1)] = 1;
+  const std::vector<std::vector<int>> grids =
+      join_dropout_fragments(f, mask, std::move(grown_grids), stride, tolerance, least_points,
+                             DropoutJoinParams{params.dropout_max_gap_px});
   // Each grid's support, lowest height above it and extent across the view: what the
   // rule for a body under an unseen top (below) asks of the clusters standing on it.
   struct Footing {
@@ -2425,6 +2448,28 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
       }
       ft.x_mid = 0.5 * (lo + hi);
     });
+  // A cluster stands on the support its foot is on (support_from_foot). A pixel's owner
+  // is the nearest support below it whose hull it stands in, but a board's seen part
+  // ends where what stands on it hides the rest, and a table's hull ends at its edge,
+  // past which an object across it hangs over the floor (rooms 9569: a ball over the
+  // table's edge given to the floor 46 cm below). When the cluster's lowest point lies
+  // on a higher support's plane (within its band and the clustering tolerance), within
+  // that support's reach and not past its far edge, the cluster is that support's.
+  // It runs after the footings: the rule for a body under an unseen top asks what stands
+  // at its top's height on the body's own support, and the fragments of a cabinet's top
+  // lie on a higher plane too (fresh room 8019's cabinet, reported whole when they moved).
+  if (params.support_from_foot)
+    for (const std::vector<int>& grid : grids) {
+      const int foot = foot_support(grid, mask[grid.front()] - 1);
+      if (foot >= 0)
+        for (int i : grid) mask[static_cast<size_t>(i)] = static_cast<char>(foot + 1);
+    }
+  // Which supports hold something: a cluster big enough to be an object stands on them
+  // (selected or not: the choice of supports does not change what furniture is).
+  std::vector<char> holds(ns, 0);
+  for (const std::vector<int>& grid : grids)
+    if (static_cast<int>(grid.size()) * stride * stride >= least_points(grid) / 2)
+      holds[static_cast<size_t>(mask[grid.front()] - 1)] = 1;
   // The clusters kept as objects' candidates, split below.
   struct Accepted {
     const std::vector<int>* grid = nullptr;

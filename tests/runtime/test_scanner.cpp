@@ -317,6 +317,7 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->part_margin_m, d.part_margin_m);
   EXPECT_EQ(p->part_share, d.part_share);
   EXPECT_EQ(p->overhang_margin_m, d.overhang_margin_m);
+  EXPECT_EQ(p->support_from_foot, d.support_from_foot);
   EXPECT_EQ(p->partial_when_seen_under, d.partial_when_seen_under);
   EXPECT_EQ(p->shape.min_coverage, d.shape.min_coverage);
   EXPECT_EQ(p->shape.max_fit_points, d.shape.max_fit_points);

@@ -230,6 +230,13 @@ struct ScanParams {
   // edge), and start none; not past the far edge (what hangs there is hidden behind the
   // object). Half the widest prop's footprint. 0: off.
   double overhang_margin_m = 0.1;
+  // A cluster stands on the support its lowest point lies on: when that point lies on a
+  // higher support's plane (in its band), within its reach (the hull grown by
+  // overhang_margin_m) and not past its far edge, the cluster is that support's, not
+  // the lower one's whose hull holds its other pixels (a ball over the table's edge, an
+  // object at the end of a board's seen part). false: the nearest support below each
+  // pixel whose hull it stands in.
+  bool support_from_foot = true;
   // Clusters whose surface continues above max_height_m (walls, cupboards, people)
   // are not objects on the support: dropped when true.
   bool drop_cut_clusters = true;
