@@ -6,11 +6,9 @@
 // that tip.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <optional>
-#include <vector>
 
 #include "annex/runtime/scanner.h"
 #include "annex/runtime/synthetic_scene.h"
