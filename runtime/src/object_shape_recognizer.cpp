@@ -201,6 +201,49 @@ bool behind_sphere(const Candidate& c, const Local& p, const Local& eye, double 
   return behind > tol;
 }
 
+// The ray from the eye to p against candidate c's upright solid (cylinder, cone or box)
+// shrunk by `side` at its sides and by `top` and `foot` at its ends, in the solid's own
+// frame: centred, axis up, a frustum widening up mirrored so that it narrows to +z
+// (shape_rays.h), its real top then the base. hit.t is infinite when the shrunk solid is
+// empty or missed; `inside_foot`: p lies inside the shrunk solid's foot outline.
+struct RayIntoSolid {
+  shape_rays::LocalHit hit;
+  double length = 0;  // from the eye to p
+  bool mirrored = false;
+  bool inside_foot = false;
+};
+
+RayIntoSolid ray_into_solid(const Candidate& c, const CandidateTerms& k, Local eye, Local p,
+                            double side, double top, double foot) {
+  RayIntoSolid r;
+  const double lo = c.h0 + foot, hi = c.h1 - top, height = hi - lo, zc = 0.5 * (lo + hi);
+  r.mirrored = c.model == Model::cone && c.r0 < c.r1;
+  const auto local = [&](Local q) {
+    const double da = q.a - c.ca, db = q.b - c.cb, z = r.mirrored ? zc - q.h : q.h - zc;
+    return c.model == Model::box ? Vec3{k.cs * da + k.sn * db, -k.sn * da + k.cs * db, z}
+                                 : Vec3{da, db, z};
+  };
+  const Vec3 o = local(eye), q = local(p), ray = q - o;
+  r.length = norm(ray);
+  if (height <= 0 || r.length <= 0) return r;
+  const Vec3 d = ray * (1 / r.length);
+  if (c.model == Model::box) {
+    const double ex = c.ex - side, ey = c.ey - side;
+    if (ex <= 0 || ey <= 0) return r;
+    r.inside_foot = std::abs(q.x) < ex && std::abs(q.y) < ey;
+    r.hit = shape_rays::hit_box(o, d, {ex, ey, 0.5 * height});
+    return r;
+  }
+  // A slanted side moves in by the margin over the cosine of its slope.
+  const double wide = std::max(c.r0, c.r1), narrow = std::min(c.r0, c.r1), in = side / k.cos_a;
+  if (wide <= in) return r;
+  r.inside_foot = len2(q.x, q.y) < c.r0 - in;
+  r.hit = c.model == Model::cylinder
+              ? shape_rays::hit_cylinder(o, d, wide - in, height)
+              : shape_rays::hit_cone(o, d, wide - in, height, std::max(0.0, narrow - in));
+  return r;
+}
+
 // A closed solid hides its own far side: a point that the ray from the eye reaches only
 // through an upright cylinder's or cone's side (the solid shrunk by the point's
 // tolerance, which the fit and the noise leave unsure) is no point of that solid
@@ -211,26 +254,9 @@ bool behind_sphere(const Candidate& c, const Local& p, const Local& eye, double 
 bool hidden_by_own_side(const Candidate& c, const CandidateTerms& k, const Local& p,
                         const Local& eye, double tol) {
   if (c.model != Model::cylinder && c.model != Model::cone) return false;
-  const double height = c.h1 - c.h0 - 2 * tol, zc = 0.5 * (c.h0 + c.h1);
-  // A slanted side moves in by the tolerance over the cosine of its slope.
-  const double wide = std::max(c.r0, c.r1), narrow = std::min(c.r0, c.r1), in = tol / k.cos_a;
-  if (height <= 0 || wide <= in) return false;
-  // A frustum widening up is mirrored so that it narrows to +z (shape_rays.h): its open
-  // top is then the base.
-  const bool mirrored = c.model == Model::cone && c.r0 < c.r1;
-  const auto local = [&](Local q) {
-    return Vec3{q.a - c.ca, q.b - c.cb, mirrored ? zc - q.h : q.h - zc};
-  };
-  const Vec3 o = local(eye), ray = local(p) - o;
-  const double length = norm(ray);
-  if (length <= 0) return false;
-  const Vec3 d = ray * (1 / length);
-  const shape_rays::LocalHit hit =
-      c.model == Model::cylinder
-          ? shape_rays::hit_cylinder(o, d, wide - in, height)
-          : shape_rays::hit_cone(o, d, wide - in, height, std::max(0.0, narrow - in));
-  if (hit.t >= length) return false;
-  return hit.normal.z * (mirrored ? -1.0 : 1.0) < 0.5;  // through its side or base, not its top
+  const RayIntoSolid r = ray_into_solid(c, k, eye, p, tol, tol, tol);
+  // Through its side or base, not its top.
+  return r.hit.t < r.length && r.hit.normal.z * (r.mirrored ? -1.0 : 1.0) < 0.5;
 }
 
 // Inside the upper third of a box or cylinder: where lids, gables and caps sit.
@@ -1706,36 +1732,13 @@ std::optional<Candidate> frustum_under_rim(const Samples& s, const Candidate& cy
 // Whether the camera saw the support's point g through an upright cylinder's, cone's or
 // box's solid shrunk by `margin` but for its foot (its fit and the noise leave it that
 // unsure): g lies inside the shrunk foot, and the ray from the eye to g enters the shrunk
-// solid before g. In the solid's own frame: centred, axis up, a frustum widening up
-// mirrored (shape_rays.h). Only g inside the foot counts: the table seen behind an object
-// over its top tells how well a primitive follows a rounded top, not what stands there.
+// solid before g (ray_into_solid). Only g inside the foot counts: the table seen behind an
+// object over its top tells how well a primitive follows a rounded top, not what stands
+// there.
 bool seen_through(const Candidate& c, const CandidateTerms& k, Local eye, Local g, double margin) {
   // Its foot stays on the support (where g lies): only its top and sides move in.
-  const double zc = 0.5 * (c.h0 + c.h1 - margin), height = c.h1 - c.h0 - margin;
-  const bool mirrored = c.model == Model::cone && c.r0 < c.r1;
-  const auto local = [&](Local p) {
-    const double da = p.a - c.ca, db = p.b - c.cb, z = mirrored ? zc - p.h : p.h - zc;
-    return c.model == Model::box ? Vec3{k.cs * da + k.sn * db, -k.sn * da + k.cs * db, z}
-                                 : Vec3{da, db, z};
-  };
-  const Vec3 o = local(eye), q = local(g), ray = q - o;
-  const double length = norm(ray);
-  if (height <= 0 || length <= 0) return false;
-  const Vec3 d = ray * (1 / length);
-  if (c.model == Model::box) {
-    const double ex = c.ex - margin, ey = c.ey - margin;
-    if (ex <= 0 || ey <= 0 || std::abs(q.x) >= ex || std::abs(q.y) >= ey) return false;
-    return shape_rays::hit_box(o, d, {ex, ey, 0.5 * height}).t < length;
-  }
-  // A slanted side moves in by the margin over the cosine of its slope.
-  const double wide = std::max(c.r0, c.r1), narrow = std::min(c.r0, c.r1);
-  const double in = margin * std::sqrt(1 + std::pow((wide - narrow) / (c.h1 - c.h0), 2));
-  if (c.r0 - in <= 0 || len2(q.x, q.y) >= c.r0 - in) return false;
-  const shape_rays::LocalHit hit =
-      c.model == Model::cylinder
-          ? shape_rays::hit_cylinder(o, d, wide - in, height)
-          : shape_rays::hit_cone(o, d, wide - in, height, std::max(0.0, narrow - in));
-  return hit.t < length;
+  const RayIntoSolid r = ray_into_solid(c, k, eye, g, margin, margin, 0);
+  return r.inside_foot && r.hit.t < r.length;
 }
 
 // The height under which an object's points are its foot: a face running down to its

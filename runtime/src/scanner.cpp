@@ -2370,34 +2370,6 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   };
   // The clustering tolerance at a depth, for the rules that compare depths.
   const auto tolerance = [&](double z) { return cluster_tolerance(params, z); };
-  // The support higher than a cluster's own (k) on whose plane its lowest point lies,
-  // within that support's reach and not past its far edge; -1 none.
-  const auto foot_support = [&](const std::vector<int>& grid, int k) {
-    const PlaneFit& own = found[static_cast<size_t>(k)].plane;
-    Vec3 low{0, 0, 0};
-    double low_h = 1e9;
-    for (int i : grid) {
-      const Vec3 p = to_vec(f.points[i]);
-      const double h = dot(own.n, p) + own.d;
-      if (h < low_h) low_h = h, low = p;
-    }
-    // An object's lowest pixels lie in its support's band, which is no cluster's.
-    const double band = plane_band(params, low.z);
-    const double on = std::max(params.min_height_m, band) + tolerance(low.z);
-    int foot = -1;
-    double best = 1e9;
-    for (size_t o = 0; o < ns; ++o) {
-      const Found& fd = found[o];
-      if (static_cast<int>(o) == k || fd.plane.d >= own.d - on || dot(fd.plane.n, own.n) < cos_tilt)
-        continue;
-      const double h = dot(fd.plane.n, low) + fd.plane.d;
-      if (h < -band || h > on || std::abs(h) >= best) continue;
-      if (!fd.hull.contains(low) && (!fd.reach.contains(low) || beyond_far_edge(fd, low))) continue;
-      foot = static_cast<int>(o);
-      best = std::abs(h);
-    }
-    return foot;
-  };
   // An object across its support's edge is a prop, which ends below the band's top: a
   // cluster with pixels beyond the hull that reaches within the clustering tolerance of
   // the band's top ran on into what stands beside the support (a wall, a wardrobe's
@@ -2418,17 +2390,19 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   const std::vector<std::vector<int>> grids =
       join_dropout_fragments(f, mask, std::move(grown_grids), stride, tolerance, least_points,
                              DropoutJoinParams{params.dropout_max_gap_px});
-  // Each grid's support, lowest height above it and extent across the view: what the
-  // rule for a body under an unseen top (below) asks of the clusters standing on it.
+  // Each grid's support, lowest point and extent across the view: what the rule for a
+  // body under an unseen top (below) asks of the clusters standing on it, and where
+  // each stands (support_from_foot).
   struct Footing {
     int support = 0;
     bool object_sized = false;
     double low_h = 0, x_mid = 0;
     double low_ahead = 0;  // its lowest point's distance ahead of the camera along the plane
+    Vec3 low;              // its lowest point
   };
   // Each grid's own item on the scan's threads (the grids are independent).
   std::vector<Footing> footing(grids.size());
-  if (params.on_top_noise_factor > 0)
+  if (params.on_top_noise_factor > 0 || params.support_from_foot)
     parallel_for(grids.size(), [&](size_t g) {
       const std::vector<int>& grid = grids[g];
       Footing& ft = footing[g];
@@ -2442,7 +2416,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
       for (int i : grid) {
         const Vec3 p = to_vec(f.points[i]);
         const double h = dot(pl.n, p) + pl.d;
-        if (h < ft.low_h) ft.low_h = h, ft.low_ahead = dot(ahead, p);
+        if (h < ft.low_h) ft.low_h = h, ft.low_ahead = dot(ahead, p), ft.low = p;
         lo = std::min(lo, dot(view_x, p));
         hi = std::max(hi, dot(view_x, p));
       }
@@ -2458,11 +2432,34 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   // It runs after the footings: the rule for a body under an unseen top asks what stands
   // at its top's height on the body's own support, and the fragments of a cabinet's top
   // lie on a higher plane too (fresh room 8019's cabinet, reported whole when they moved).
+  // The support higher than the grid's own on whose plane its lowest point lies, within
+  // that support's reach and not past its far edge; -1 none.
+  const auto foot_support = [&](const Footing& ft) {
+    const PlaneFit& own = found[static_cast<size_t>(ft.support)].plane;
+    // An object's lowest pixels lie in its support's band, which is no cluster's.
+    const double band = plane_band(params, ft.low.z);
+    const double on = std::max(params.min_height_m, band) + tolerance(ft.low.z);
+    int foot = -1;
+    double best = 1e9;
+    for (size_t o = 0; o < ns; ++o) {
+      const Found& fd = found[o];
+      if (static_cast<int>(o) == ft.support || fd.plane.d >= own.d - on ||
+          dot(fd.plane.n, own.n) < cos_tilt)
+        continue;
+      const double h = dot(fd.plane.n, ft.low) + fd.plane.d;
+      if (h < -band || h > on || std::abs(h) >= best) continue;
+      if (!fd.hull.contains(ft.low) && (!fd.reach.contains(ft.low) || beyond_far_edge(fd, ft.low)))
+        continue;
+      foot = static_cast<int>(o);
+      best = std::abs(h);
+    }
+    return foot;
+  };
   if (params.support_from_foot)
-    for (const std::vector<int>& grid : grids) {
-      const int foot = foot_support(grid, mask[grid.front()] - 1);
+    for (size_t g = 0; g < grids.size(); ++g) {
+      const int foot = foot_support(footing[g]);
       if (foot >= 0)
-        for (int i : grid) mask[static_cast<size_t>(i)] = static_cast<char>(foot + 1);
+        for (int i : grids[g]) mask[static_cast<size_t>(i)] = static_cast<char>(foot + 1);
     }
   // Which supports hold something: a cluster big enough to be an object stands on them
   // (selected or not: the choice of supports does not change what furniture is).
