@@ -41,6 +41,9 @@ void join_occluded_pieces(const Frame& f, std::vector<ScanCluster>& clusters,
       const ScanCluster& B = clusters[b];
       if (A.shape.primitives.empty() || B.shape.primitives.empty()) continue;
       if (A.shape.primitives[0].primitive.kind != B.shape.primitives[0].primitive.kind) continue;
+      // Pieces of one object stand on one support: a box on the table in front of a
+      // shelf is no piece of the shelf's side behind it (fresh rooms 9929).
+      if (!(A.support == B.support)) continue;
       // Along the image segment between the pieces' centres, every pixel that is
       // neither piece must be nearer than both (the occluder), have no depth (the
       // occluder's shadow on the structured light) or be a pixel of no object, above
@@ -80,7 +83,7 @@ void join_occluded_pieces(const Frame& f, std::vector<ScanCluster>& clusters,
       if (!covered || !occluder) continue;
       // One primitive of the same kind must explain both pieces together.
       ScanCluster joint;
-      joint.support = A.support;  // both pieces stand on one support
+      joint.support = A.support;
       joint.around = A.around;
       joint.around.points.insert(joint.around.points.end(), B.around.points.begin(),
                                  B.around.points.end());

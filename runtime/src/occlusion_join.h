@@ -1,7 +1,8 @@
 #pragma once
 // An object seen in two pieces either side of a nearer one (a box behind a standing can,
-// a can lying behind a box) is one object: pieces of the same shape whose image gap is
-// covered by a nearer object, and which one primitive explains together, are joined.
+// a can lying behind a box) is one object: pieces of the same shape on the same support
+// whose image gap is covered by a nearer object, and which one primitive explains
+// together, are joined.
 // Private to the scanner.
 
 #include <functional>

@@ -1204,19 +1204,22 @@ bool holds_support(const Frame& f, const std::vector<int>& members, const PlaneF
 }
 
 // Where a kept plane's noisy edge can lie: the cells, support_gap_reach_m square on the
-// plane, that hold its regions' pixels, and their neighbours. A band within
-// min_support_gap_m of a plane is that plane's own far edge, left outside its band by the
-// depth noise, only there: the noise moves a point along its ray, a few sigma from the
-// surface's seen pixels (3 sigma at 3.5 m is 6 cm). Farther away it is another surface
-// at nearly the same height (a shelf's board 3 cm below the table's top against the wall
-// behind it). Cells of pixels, not the regions' hulls: a table's region holds the strip
-// its band cuts across the wall behind it, and a hull spanning the two covers a cabinet
-// top beside the table (unseen rooms 7030). Empty with the rule off (never asked then).
+// plane, within reach of its regions' pixels. A band within min_support_gap_m of a plane
+// is that plane's own far edge, left outside its band by the depth noise, only there:
+// the noise moves a point along its ray, support_gap_reach_sigmas of the axial sigma at
+// its depth from the surface's seen pixels (3 sigma: 1.8 cm at 2 m, 6 cm at 3.5 m), and
+// a cell's reach is its farthest pixel's, in whole cells, one at least (its neighbours).
+// Farther away it is another surface at nearly the same height (a shelf's board 5 cm
+// above the table's top, 10 cm behind its far edge: fresh rooms 9855). Cells of pixels,
+// not the regions' hulls: a table's region holds the strip its band cuts across the wall
+// behind it, and a hull spanning the two covers a cabinet top beside the table (unseen
+// rooms 7030). Empty with the rule off (never asked then).
 struct GapReach {
   Vec3 u, v;
   double cell = 1;
   long a0 = 0, b0 = 0, na = 0, nb = 0;  // the cells' bounds, one cell beyond the pixels'
-  std::vector<char> near_cells;         // na x nb, 1 at a cell with a region's pixel or beside one
+  std::vector<char> near_cells;         // na x nb, 1 at a cell within reach of a region's pixel
+  static constexpr long kMaxReachCells = 8;
   // floor(x / cell) as a whole number: the truncation, one less below zero where it
   // rounded up (exact for a finite quotient; std::floor is a library call without SSE4.1).
   static long cell_of(double x, double cell) {
@@ -1241,38 +1244,52 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
   const Vec3 seed = std::abs(plane.n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
   const Vec3 u = normalized(cross(plane.n, seed)), v = cross(plane.n, u);
   r.u = u, r.v = v;
-  // The pixels' coordinates on the plane, and the cells: at most some four million of
-  // them whatever the points' spread (a frame of bad depths spans kilometres), coarser
-  // cells then, which only widen the reach. The coordinates' array is sized once: the
-  // serial plane stage walks every member here.
+  // The pixels' coordinates on the plane and their reach (the depth noise's), and the
+  // cells: at most some four million of them whatever the points' spread (a frame of bad
+  // depths spans kilometres), coarser cells then, which only widen the reach. The array
+  // is sized once: the serial plane stage walks every member here.
   size_t n = 0;
   for (const PlaneRegions& reg : regions) n += reg.members.size();
-  std::vector<std::array<double, 2>> uv;
-  uv.reserve(n);
+  std::vector<std::array<double, 3>> uvr;
+  uvr.reserve(n);
   double lo_u = std::numeric_limits<double>::infinity(), hi_u = -lo_u, lo_v = lo_u, hi_v = -lo_u;
+  double widest = 0;
   for (const PlaneRegions& reg : regions)
     for (int i : reg.members) {
       const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
-      const double a = dot(u, p), b = dot(v, p);
-      uv.push_back({a, b});
+      const double a = dot(u, p), b = dot(v, p),
+                   reach = params.support_gap_reach_sigmas * kinect_sigma_z(p.z);
+      uvr.push_back({a, b, reach});
       lo_u = std::min(lo_u, a), hi_u = std::max(hi_u, a), lo_v = std::min(lo_v, b), hi_v = std::max(hi_v, b);
+      widest = std::max(widest, reach);
     }
-  if (uv.empty() || !(hi_u >= lo_u) || !(hi_v >= lo_v)) return r;
-  r.cell = std::max(params.support_gap_reach_m, std::sqrt((hi_u - lo_u + 1) * (hi_v - lo_v + 1) / 4e6));
-  r.a0 = r.cell_of(lo_u) - 1, r.b0 = r.cell_of(lo_v) - 1;
-  r.na = r.cell_of(hi_u) + 2 - r.a0, r.nb = r.cell_of(hi_v) + 2 - r.b0;
+  if (uvr.empty() || !(hi_u >= lo_u) || !(hi_v >= lo_v)) return r;
+  r.cell =
+      std::max(params.support_gap_reach_m, std::sqrt((hi_u - lo_u + 1) * (hi_v - lo_v + 1) / 4e6));
   const double cell = r.cell;
+  // A reach in whole cells, one at least (the neighbours); bounded, as a bad depth's is not.
+  const auto in_cells = [cell](double reach) {
+    return std::clamp(static_cast<long>(std::ceil(reach / cell)), 1L, GapReach::kMaxReachCells);
+  };
+  const long margin = in_cells(widest);
+  r.a0 = r.cell_of(lo_u) - margin, r.b0 = r.cell_of(lo_v) - margin;
+  r.na = r.cell_of(hi_u) + 1 + margin - r.a0, r.nb = r.cell_of(hi_v) + 1 + margin - r.b0;
   const long a0 = r.a0, b0 = r.b0, nb = r.nb;
-  std::vector<char> held(static_cast<size_t>(r.na * nb), 0);
-  for (const auto& [a, b] : uv)
-    held[static_cast<size_t>((GapReach::cell_of(a, cell) - a0) * nb + (GapReach::cell_of(b, cell) - b0))] = 1;
-  // Each held cell and its eight neighbours are near.
+  std::vector<char> held(static_cast<size_t>(r.na * nb),
+                         0);  // each cell's reach in cells, 0: no pixel
+  for (const auto& [a, b, reach] : uvr) {
+    char& c = held[static_cast<size_t>((GapReach::cell_of(a, cell) - a0) * nb +
+                                       (GapReach::cell_of(b, cell) - b0))];
+    c = static_cast<char>(std::max<long>(c, in_cells(reach)));
+  }
+  // Each held cell and the cells within its reach are near.
   r.near_cells.assign(held.size(), 0);
-  for (long a = 1; a + 1 < r.na; ++a)
-    for (long b = 1; b + 1 < r.nb; ++b)
-      if (held[static_cast<size_t>(a * r.nb + b)])
-        for (long da = -1; da <= 1; ++da)
-          for (long db = -1; db <= 1; ++db) r.near_cells[static_cast<size_t>((a + da) * r.nb + b + db)] = 1;
+  for (long a = 0; a < r.na; ++a)
+    for (long b = 0; b < r.nb; ++b)
+      if (const long m = held[static_cast<size_t>(a * nb + b)])
+        for (long da = -m; da <= m; ++da)
+          for (long db = -m; db <= m; ++db)
+            r.near_cells[static_cast<size_t>((a + da) * nb + b + db)] = 1;
   return r;
 }
 
@@ -1474,6 +1491,35 @@ bool stands_at_far_edge(const Frame& f, const std::vector<int>& grid, const Plan
     at_edge += !behind;
   }
   return 2 * at_edge > lowest.size();
+}
+
+// Whether the cluster is at least `share` as wide as the support's hull along the
+// cluster's own widest direction on the plane (its points laid on it): an upright face as
+// wide as the surface it stands on is that furniture's, not a prop on it.
+bool spans_support(const Frame& f, const std::vector<int>& grid, const Hull2& hull, double share) {
+  if (grid.size() < 3 || hull.pts.size() < 3) return false;
+  std::vector<std::array<double, 2>> ab;
+  ab.reserve(grid.size());
+  double ma = 0, mb = 0;
+  for (int i : grid) {
+    const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
+    ab.push_back({dot(hull.u, p), dot(hull.v, p)});
+    ma += ab.back()[0], mb += ab.back()[1];
+  }
+  ma /= static_cast<double>(ab.size()), mb /= static_cast<double>(ab.size());
+  // The widest direction: the 2 x 2 scatter's major axis.
+  double saa = 0, sab = 0, sbb = 0;
+  for (const auto& [a, b] : ab)
+    saa += (a - ma) * (a - ma), sab += (a - ma) * (b - mb), sbb += (b - mb) * (b - mb);
+  const double angle = 0.5 * std::atan2(2 * sab, saa - sbb);
+  const double da = std::cos(angle), db = std::sin(angle);
+  const auto extent = [&](const auto& pts) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const auto& q : pts)
+      lo = std::min(lo, q[0] * da + q[1] * db), hi = std::max(hi, q[0] * da + q[1] * db);
+    return hi - lo;
+  };
+  return extent(ab) >= share * extent(hull.pts);
 }
 
 }  // namespace
@@ -2649,8 +2695,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     const bool foot_hidden = foot_hidden_high(f, grid, stride, bottom_h, params, tolerance);
     // One upright flat face whose foot is not on its support (a chair's back rising
     // behind the table, a cabinet's side): neither its depth nor its foot is seen.
-    const bool panel = upright_panel(f, grid, plane.n, params) &&
-                       foot_unseen(f, grid, stride, surface_of, k);
+    // Or one as wide as the raised support it stands on (a chair's back on its seat).
+    const bool panel =
+        upright_panel(f, grid, plane.n, params) &&
+        (foot_unseen(f, grid, stride, surface_of, k) ||
+         (params.panel_span_share > 0 && static_cast<size_t>(k) != lowest &&
+          spans_support(f, grid, found[static_cast<size_t>(k)].hull, params.panel_span_share)));
     // Standing at a raised support's far edge, not on it (`surface_hulls`): asked only
     // when no rule above has flagged it (a look along the view per column).
     const std::vector<const Hull2*>& surface = surface_hulls[static_cast<size_t>(k)];

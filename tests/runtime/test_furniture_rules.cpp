@@ -654,6 +654,39 @@ TEST(SupportRules, ABoardNearTheTablesHeightIsASupportOfItsOwn) {
   EXPECT_LE(on.shelf_props, off.shelf_props);
 }
 
+TEST(SupportRules, ATablesNoisyEdgeReachesAsFarAsTheDepthNoise) {
+  // Fresh rooms 9855 (session 24): a shelf's upper board 5 cm above the table's top, 10 cm
+  // behind its far edge, 2.1 m away. The table's noisy edge reached the cells of 10 cm
+  // holding its pixels and their neighbours (10 to 20 cm): the board's band, in reach, was
+  // taken for that edge, and the ball and the cylinder on the board were missed. The noise
+  // moves a pixel some 3 sigma along its ray (1.8 cm there): the reach is that now.
+  ScanParams without;
+  without.support_gap_reach_m = 0.1;
+  without.support_gap_reach_sigmas = 0;
+  const OnBoards on = scan_boards({9855u}, ScanParams{});
+  const OnBoards off = scan_boards({9855u}, without);
+  EXPECT_GE(on.on_boards, off.on_boards + 2);
+  EXPECT_GE(on.found, off.found + 2);
+  EXPECT_LE(on.shelf_props, off.shelf_props);
+}
+
+TEST(FurnitureRules, AFaceAsWideAsTheSeatItStandsOnIsTheChairsBack) {
+  // Fresh rooms 9824 and 9852 (session 24): a chair's back, 2 m away, stands on its seat,
+  // which is a support of its own (9852's since the table's noisy edge reaches no farther
+  // than the depth noise). Its foot is seen on the seat, so the panel rule left it whole: a
+  // box of 45 by 44 cm reported as a prop. It spans the seat's whole width; a prop stands
+  // on a surface with room beside it (panel_span_share).
+  ScanParams without;
+  without.panel_span_share = 0;
+  for (std::uint64_t seed : {9824u, 9852u}) {
+    const Seen on = scan_seeds({seed}, true, kLabelChair, ScanParams{}, true);
+    const Seen off = scan_seeds({seed}, true, kLabelChair, without, true);
+    EXPECT_EQ(on.whole, 0) << "seed " << seed;
+    EXPECT_EQ(off.whole, 1) << "seed " << seed;
+    EXPECT_EQ(on.found, off.found) << "seed " << seed;
+  }
+}
+
 // Room `seed`'s post (the room whole, objects on the boards too) is no prop with the
 // defaults, and a prop reported whole with `without`; no true object is lost to the rule.
 void expect_post_cut(std::uint64_t seed, const ScanParams& without) {

@@ -335,6 +335,9 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->max_support_tilt_deg, d.max_support_tilt_deg);
   EXPECT_EQ(p->min_support_area_m2, d.min_support_area_m2);
   EXPECT_EQ(p->min_support_gap_m, d.min_support_gap_m);
+  EXPECT_EQ(p->support_gap_reach_m, d.support_gap_reach_m);
+  EXPECT_EQ(p->support_gap_reach_sigmas, d.support_gap_reach_sigmas);
+  EXPECT_EQ(p->panel_span_share, d.panel_span_share);
   EXPECT_EQ(p->under_width_share, d.under_width_share);
   EXPECT_EQ(p->furniture_min_height_m, d.furniture_min_height_m);
   EXPECT_EQ(p->on_top_noise_factor, d.on_top_noise_factor);

@@ -81,13 +81,16 @@ struct ScanParams {
   double min_support_area_m2 = 0.04;
   // ... and lie at least this far above or below the earlier supports,
   double min_support_gap_m = 0.06;
-  // ... where they lie within this distance (in the plane) of an earlier support's
-  // regions: a band nearer than min_support_gap_m in height is that support's noisy
-  // edge only where the depth noise can put it, a few sigma along the view from the
-  // surface (3 sigma at 3.5 m: 6 cm); farther away it is another surface (a shelf's
-  // board 3 cm below the table's top, against the wall behind it). 0: everywhere (before
-  // session 10).
-  double support_gap_reach_m = 0.1;
+  // ... where they lie within reach (in the plane) of an earlier support's regions: a
+  // band nearer than min_support_gap_m in height is that support's noisy edge only where
+  // the depth noise can put it, support_gap_reach_sigmas of the Kinect's axial sigma at
+  // the pixel's depth along its ray, and no less than support_gap_reach_m (the cells'
+  // side): 2 to 4 cm up to 2.2 m, 6 to 8 cm at 3.5 m. Farther away it is another surface
+  // (a shelf's board 5 cm above the table's top, 10 cm behind its far edge). 0: everywhere
+  // (before session 10). support_gap_reach_sigmas 0: the cells and their neighbours
+  // alone (10 to 20 cm with the cells of 0.1 before session 24).
+  double support_gap_reach_m = 0.02;
+  double support_gap_reach_sigmas = 3;
   // A later support holds min_plane_points, or its pixels cover at least this share of
   // min_support_area_m2 on its plane (each pixel's footprint at its depth and view
   // angle, (z / fx)^2 / cos): a shelf's board 2 m away seen at a grazing angle is a
@@ -197,6 +200,13 @@ struct ScanParams {
   // to 1.2 times; a box 10 cm deep seen from above, 1 m away, 8 times). A face whose foot
   // is seen stays whole (a laptop's lid, a box seen face-on from afar). 0: off.
   double panel_noise_factor = 2.0;
+  // ... and one whose foot is seen but which is at least this share as wide, along its
+  // face, as the raised support it stands on (that support's seen hull along the same
+  // line) is flagged partial too: a prop stands on a surface with room beside it, and a
+  // face across the whole surface is that furniture's (a chair's back on its seat, 40 to
+  // 48 cm on a seat as wide). Not asked on the lowest support (the floor), which runs on
+  // unseen. 0: off.
+  double panel_span_share = 0.8;
   // A cluster whose face runs on below the plane of its support's own pixels around it, by
   // more than this many times the height noise there (sigma_z times the ray's slope
   // against the plane) and 3 mm, and then meets that support's surface nearer to the
