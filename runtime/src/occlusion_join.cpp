@@ -27,6 +27,25 @@ OccludedPiece describe_piece(const Frame& f, const ScanCluster& c) {
   return p;
 }
 
+namespace {
+
+// The support's surface seen around two pieces of one object on it: each point once (the
+// pieces stand near each other, so their surroundings overlap), and the object's pixels
+// both pieces' (the foot's seen share is a share of the whole object).
+SupportAround joint_around(const SupportAround& a, const SupportAround& b) {
+  SupportAround out = a;
+  out.points.insert(out.points.end(), b.points.begin(), b.points.end());
+  const auto before = [](const Vec3& p, const Vec3& q) {
+    return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
+  };
+  std::sort(out.points.begin(), out.points.end(), before);
+  out.points.erase(std::unique(out.points.begin(), out.points.end()), out.points.end());
+  out.object_pixels = a.object_pixels + b.object_pixels;
+  return out;
+}
+
+}  // namespace
+
 void join_occluded_pieces(const Frame& f, std::vector<ScanCluster>& clusters,
                           std::vector<int>& label, std::vector<OccludedPiece> pieces,
                           const std::function<void(ScanCluster&, int)>& refit,
@@ -84,9 +103,7 @@ void join_occluded_pieces(const Frame& f, std::vector<ScanCluster>& clusters,
       // One primitive of the same kind must explain both pieces together.
       ScanCluster joint;
       joint.support = A.support;
-      joint.around = A.around;
-      joint.around.points.insert(joint.around.points.end(), B.around.points.begin(),
-                                 B.around.points.end());
+      joint.around = joint_around(A.around, B.around);
       joint.pixels = A.pixels;
       joint.pixels.insert(joint.pixels.end(), B.pixels.begin(), B.pixels.end());
       std::sort(joint.pixels.begin(), joint.pixels.end());
