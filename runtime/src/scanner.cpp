@@ -1217,7 +1217,7 @@ bool holds_support(const Frame& f, const std::vector<int>& members, const PlaneF
 struct GapReach {
   Vec3 u, v;
   double cell = 1;
-  long a0 = 0, b0 = 0, na = 0, nb = 0;  // the cells' bounds, one cell beyond the pixels'
+  long a0 = 0, b0 = 0, na = 0, nb = 0;  // the cells' bounds, the widest reach beyond the pixels'
   std::vector<char> near_cells;         // na x nb, 1 at a cell within reach of a region's pixel
   static constexpr long kMaxReachCells = 8;
   // floor(x / cell) as a whole number: the truncation, one less below zero where it
@@ -1275,8 +1275,8 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
   r.a0 = r.cell_of(lo_u) - margin, r.b0 = r.cell_of(lo_v) - margin;
   r.na = r.cell_of(hi_u) + 1 + margin - r.a0, r.nb = r.cell_of(hi_v) + 1 + margin - r.b0;
   const long a0 = r.a0, b0 = r.b0, nb = r.nb;
-  std::vector<char> held(static_cast<size_t>(r.na * nb),
-                         0);  // each cell's reach in cells, 0: no pixel
+  // Each cell's reach in cells, 0 where it holds no pixel.
+  std::vector<char> held(static_cast<size_t>(r.na * nb), 0);
   for (const auto& [a, b, reach] : uvr) {
     char& c = held[static_cast<size_t>((GapReach::cell_of(a, cell) - a0) * nb +
                                        (GapReach::cell_of(b, cell) - b0))];

@@ -307,6 +307,17 @@ OnBoards scan_boards(const std::vector<std::uint64_t>& seeds, const ScanParams& 
   return seen;
 }
 
+// The rule `without` lacks finds at least `more` objects on the shelf's boards over
+// `seeds`, as many more in all, and reports no more of the shelf whole.
+void expect_more_on_boards(const std::vector<std::uint64_t>& seeds, const ScanParams& without,
+                           int more) {
+  const OnBoards on = scan_boards(seeds, ScanParams{});
+  const OnBoards off = scan_boards(seeds, without);
+  EXPECT_GE(on.on_boards, off.on_boards + more);
+  EXPECT_GE(on.found, off.found + more);
+  EXPECT_LE(on.shelf_props, off.shelf_props);
+}
+
 TEST(SupportRules, ObjectsOnALowerBoardAreNoLegsOfTheUpperOne) {
   // Held-out rooms 5029, 5043 and 5069: a shelf's lower board, found as a support, holds
   // objects 1.95 to 2.58 m away under its upper board (also a support). Inside the upper
@@ -318,11 +329,7 @@ TEST(SupportRules, ObjectsOnALowerBoardAreNoLegsOfTheUpperOne) {
   const std::vector<std::uint64_t> seeds{5029u, 5043u, 5069u};
   ScanParams without;
   without.legs_on_lowest_only = false;
-  const OnBoards on = scan_boards(seeds, ScanParams{});
-  const OnBoards off = scan_boards(seeds, without);
-  EXPECT_GE(on.on_boards, off.on_boards + 2);
-  EXPECT_GE(on.found, off.found + 2);
-  EXPECT_LE(on.shelf_props, off.shelf_props);
+  expect_more_on_boards(seeds, without, 2);
 }
 
 TEST(SupportRules, AFarBoardIsASupportByItsAreaNotItsPixelCount) {
@@ -335,11 +342,7 @@ TEST(SupportRules, AFarBoardIsASupportByItsAreaNotItsPixelCount) {
   const std::vector<std::uint64_t> seeds{5039u, 5041u, 5056u, 5073u};
   ScanParams without;
   without.min_support_seen_share = 0;
-  const OnBoards on = scan_boards(seeds, ScanParams{});
-  const OnBoards off = scan_boards(seeds, without);
-  EXPECT_GE(on.on_boards, off.on_boards + 4);
-  EXPECT_GE(on.found, off.found + 4);
-  EXPECT_LE(on.shelf_props, off.shelf_props);
+  expect_more_on_boards(seeds, without, 4);
 }
 
 // Objects cut by the border in truth reported whole (border slivers), and truth objects
@@ -647,11 +650,7 @@ TEST(SupportRules, ABoardNearTheTablesHeightIsASupportOfItsOwn) {
   // missed. The gap holds only within support_gap_reach_m of the table's regions.
   ScanParams without;
   without.support_gap_reach_m = 0;
-  const OnBoards on = scan_boards({5072u}, ScanParams{});
-  const OnBoards off = scan_boards({5072u}, without);
-  EXPECT_GE(on.on_boards, off.on_boards + 2);
-  EXPECT_GE(on.found, off.found + 2);
-  EXPECT_LE(on.shelf_props, off.shelf_props);
+  expect_more_on_boards({5072u}, without, 2);
 }
 
 TEST(SupportRules, ATablesNoisyEdgeReachesAsFarAsTheDepthNoise) {
@@ -663,11 +662,7 @@ TEST(SupportRules, ATablesNoisyEdgeReachesAsFarAsTheDepthNoise) {
   ScanParams without;
   without.support_gap_reach_m = 0.1;
   without.support_gap_reach_sigmas = 0;
-  const OnBoards on = scan_boards({9855u}, ScanParams{});
-  const OnBoards off = scan_boards({9855u}, without);
-  EXPECT_GE(on.on_boards, off.on_boards + 2);
-  EXPECT_GE(on.found, off.found + 2);
-  EXPECT_LE(on.shelf_props, off.shelf_props);
+  expect_more_on_boards({9855u}, without, 2);
 }
 
 TEST(FurnitureRules, AFaceAsWideAsTheSeatItStandsOnIsTheChairsBack) {
