@@ -189,8 +189,9 @@ bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, const Pla
   return heights[k] < 1;
 }
 
-bool upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up, const ScanParams& params) {
-  if (params.panel_noise_factor <= 0 || grid.size() < 10) return false;
+std::optional<Vec3> upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up,
+                                  const ScanParams& params) {
+  if (params.panel_noise_factor <= 0 || grid.size() < 10) return std::nullopt;
   std::vector<Vec3> pts;
   pts.reserve(grid.size());
   for (int i : grid) pts.push_back(at(f, i));
@@ -199,9 +200,10 @@ bool upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up, const 
   const Eigen::Matrix3d cov = face.scatter / static_cast<double>(grid.size());
   const Eigen::Vector3d n = smallest_eigenvector(cov);
   // Upright: the face's normal within 30 degrees of horizontal (sin 30 = 0.5).
-  if (std::abs(n.x() * up.x + n.y() * up.y + n.z() * up.z) > 0.5) return false;
+  if (std::abs(n.x() * up.x + n.y() * up.y + n.z() * up.z) > 0.5) return std::nullopt;
   const double spread = std::sqrt(std::max(0.0, n.dot(cov * n)));
-  return spread <= params.panel_noise_factor * kinect_sigma_z(mean.z());
+  if (spread > params.panel_noise_factor * kinect_sigma_z(mean.z())) return std::nullopt;
+  return Vec3{n.x(), n.y(), n.z()};
 }
 
 bool foot_unseen(const Frame& f, const std::vector<int>& grid, int step,

@@ -112,7 +112,7 @@ std::optional<Plane> own_support_around(const Frame& f, const std::vector<int>& 
 bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, const Plane& around,
                          const ScanParams& params, const ToleranceAt& band);
 
-// Whether the cluster is one upright flat face: its points' spread along their
+// The face's normal when the cluster is one upright flat face: its points' spread along their
 // least-spread direction is at most params.panel_noise_factor times the Kinect's axial
 // noise at their mean depth, and that direction lies within 30 degrees of horizontal
 // (an upright face). A solid seen from above its top (every camera here is: a support
@@ -120,7 +120,8 @@ bool lies_on_own_support(const Frame& f, const std::vector<int>& grid, const Pla
 // (a box 10 cm deep 1 m away: 8 times). One face alone is no evidence against a prop
 // (a laptop's lid, a box seen face-on from afar); with its foot unseen (foot_unseen) it
 // is a chair's back or a cabinet's side rising behind the table: flagged partial.
-bool upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up, const ScanParams& params);
+std::optional<Vec3> upright_panel(const Frame& f, const std::vector<int>& grid, Vec3 up,
+                                  const ScanParams& params);
 
 // Whether the cluster stands behind its support's far edge, lower down: in more than half
 // of the grid columns that show its foot, its face runs on below its lowest pixel (no

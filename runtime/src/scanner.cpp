@@ -1493,33 +1493,25 @@ bool stands_at_far_edge(const Frame& f, const std::vector<int>& grid, const Plan
   return 2 * at_edge > lowest.size();
 }
 
-// Whether the cluster is at least `share` as wide as the support's hull along the
-// cluster's own widest direction on the plane (its points laid on it): an upright face as
-// wide as the surface it stands on is that furniture's, not a prop on it.
-bool spans_support(const Frame& f, const std::vector<int>& grid, const Hull2& hull, double share) {
-  if (grid.size() < 3 || hull.pts.size() < 3) return false;
-  std::vector<std::array<double, 2>> ab;
-  ab.reserve(grid.size());
-  double ma = 0, mb = 0;
+// Whether an upright face (its normal `face`) is at least `share` as wide as the
+// support's hull along the face laid on the plane (normal `up`): a face as wide as the
+// surface it stands on is that furniture's, not a prop on it.
+bool spans_support(const Frame& f, const std::vector<int>& grid, Vec3 face, Vec3 up,
+                   const Hull2& hull, double share) {
+  if (grid.empty() || hull.pts.size() < 3) return false;
+  const Vec3 along = normalized(cross(up, face));
+  const double da = dot(along, hull.u), db = dot(along, hull.v);
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (int i : grid) {
-    const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
-    ab.push_back({dot(hull.u, p), dot(hull.v, p)});
-    ma += ab.back()[0], mb += ab.back()[1];
+    const double t = dot(along, to_vec(f.points[static_cast<size_t>(i)]));
+    lo = std::min(lo, t), hi = std::max(hi, t);
   }
-  ma /= static_cast<double>(ab.size()), mb /= static_cast<double>(ab.size());
-  // The widest direction: the 2 x 2 scatter's major axis.
-  double saa = 0, sab = 0, sbb = 0;
-  for (const auto& [a, b] : ab)
-    saa += (a - ma) * (a - ma), sab += (a - ma) * (b - mb), sbb += (b - mb) * (b - mb);
-  const double angle = 0.5 * std::atan2(2 * sab, saa - sbb);
-  const double da = std::cos(angle), db = std::sin(angle);
-  const auto extent = [&](const auto& pts) {
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (const auto& q : pts)
-      lo = std::min(lo, q[0] * da + q[1] * db), hi = std::max(hi, q[0] * da + q[1] * db);
-    return hi - lo;
-  };
-  return extent(ab) >= share * extent(hull.pts);
+  double hull_lo = std::numeric_limits<double>::infinity(), hull_hi = -hull_lo;
+  for (const auto& q : hull.pts) {
+    const double t = q[0] * da + q[1] * db;
+    hull_lo = std::min(hull_lo, t), hull_hi = std::max(hull_hi, t);
+  }
+  return hi - lo >= share * (hull_hi - hull_lo);
 }
 
 }  // namespace
@@ -2696,11 +2688,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // One upright flat face whose foot is not on its support (a chair's back rising
     // behind the table, a cabinet's side): neither its depth nor its foot is seen.
     // Or one as wide as the raised support it stands on (a chair's back on its seat).
+    const std::optional<Vec3> face = upright_panel(f, grid, plane.n, params);
     const bool panel =
-        upright_panel(f, grid, plane.n, params) &&
-        (foot_unseen(f, grid, stride, surface_of, k) ||
-         (params.panel_span_share > 0 && static_cast<size_t>(k) != lowest &&
-          spans_support(f, grid, found[static_cast<size_t>(k)].hull, params.panel_span_share)));
+        face && (foot_unseen(f, grid, stride, surface_of, k) ||
+                 (params.panel_span_share > 0 && static_cast<size_t>(k) != lowest &&
+                  spans_support(f, grid, *face, plane.n, found[static_cast<size_t>(k)].hull,
+                                params.panel_span_share)));
     // Standing at a raised support's far edge, not on it (`surface_hulls`): asked only
     // when no rule above has flagged it (a look along the view per column).
     const std::vector<const Hull2*>& surface = surface_hulls[static_cast<size_t>(k)];
