@@ -87,6 +87,8 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.range("grazing_max_through_share", p.grazing_max_through_share, 0, 1);
   c.non_negative("support_gap_reach_m", p.support_gap_reach_m);
   c.non_negative("support_gap_reach_sigmas", p.support_gap_reach_sigmas);
+  c.range("support_edge_min_share", p.support_edge_min_share, 0, 1);
+  c.non_negative("support_floor_step_sigmas", p.support_floor_step_sigmas);
   c.non_negative("sensor_min_range_m", p.sensor_min_range_m);
   c.non_negative("near_cut_margin_m", p.near_cut_margin_m);
   c.positive("shape.min_tolerance_m", p.shape.min_tolerance_m);

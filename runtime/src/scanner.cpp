@@ -410,11 +410,24 @@ inline std::pair<int, int> surface_neighbours(const PointXYZRGB* pts, int i, int
   return {right, down};
 }
 
-// Which of `pixels` lie on a surface facing up rather than sideways: the normal through
-// their grid neighbours four grid steps on along the row and the column within 45
-// degrees of `up`, nearer to horizontal than to vertical. Depth noise tilts a far
-// floor's normals by some 30 degrees at 3.5 m (four grid steps span 5 cm there), not a
-// wall's by 45.
+// Whether pixel i (at x, y) lies on a surface facing up rather than sideways: the
+// normal through its grid neighbours `reach` pixels on along the row and the column
+// within 45 degrees of `up` (ux, uy, uz), nearer to horizontal than to vertical.
+inline bool pixel_faces_up(const PointXYZRGB* pts, int i, int x, int y, int reach, int w, int h,
+                           float ux, float uy, float uz) {
+  const PointXYZRGB& c = pts[i];
+  const auto [right, down] = surface_neighbours(pts, i, x, y, reach, w, h);
+  if (right < 0 || down < 0) return false;
+  const float ax = pts[right].x - c.x, ay = pts[right].y - c.y, az = pts[right].z - c.z;
+  const float bx = pts[down].x - c.x, by = pts[down].y - c.y, bz = pts[down].z - c.z;
+  const float nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+  const float along = nx * ux + ny * uy + nz * uz, len2 = nx * nx + ny * ny + nz * nz;
+  return len2 > 0 && 2 * along * along >= len2;  // cos^2 >= cos^2(45 degrees)
+}
+
+// Which of `pixels` lie on a surface facing up (pixel_faces_up), the normal through
+// their grid neighbours four grid steps on. Depth noise tilts a far floor's normals by
+// some 30 degrees at 3.5 m (four grid steps span 5 cm there), not a wall's by 45.
 std::vector<char> facing_up(const Frame& f, const std::vector<int>& pixels,
                             const std::vector<GridCell>& cells, int stride, Vec3 up) {
   const int reach = kSurfaceNormalSteps * stride, w = f.width, h = f.height;
@@ -423,17 +436,9 @@ std::vector<char> facing_up(const Frame& f, const std::vector<int>& pixels,
   const PointXYZRGB* pts = f.points.data();
   // A NaN depth fails `z > 0`; a pixel with depth has finite coordinates here (the
   // pool holds valid pixels, and a NaN neighbour coordinate only makes the test fail).
-  for (size_t k = 0; k < pixels.size(); ++k) {
-    const int i = pixels[k], x = cells[k].x * stride, y = cells[k].y * stride;
-    const PointXYZRGB& c = pts[i];
-    const auto [right, down] = surface_neighbours(pts, i, x, y, reach, w, h);
-    if (right < 0 || down < 0) continue;
-    const float ax = pts[right].x - c.x, ay = pts[right].y - c.y, az = pts[right].z - c.z;
-    const float bx = pts[down].x - c.x, by = pts[down].y - c.y, bz = pts[down].z - c.z;
-    const float nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
-    const float along = nx * ux + ny * uy + nz * uz, len2 = nx * nx + ny * ny + nz * nz;
-    out[k] = len2 > 0 && 2 * along * along >= len2;  // cos^2 >= cos^2(45 degrees)
-  }
+  for (size_t k = 0; k < pixels.size(); ++k)
+    out[k] = pixel_faces_up(pts, pixels[k], cells[k].x * stride, cells[k].y * stride, reach, w, h,
+                            ux, uy, uz);
   return out;
 }
 
@@ -1293,6 +1298,46 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
   return r;
 }
 
+// Whether a region meets a kept plane's pixels without a step: over the pairs of grid
+// neighbours (one or two grid steps apart along a row or a column), one the region's and
+// one the kept plane's (`kept_of` holds each strided pixel's kept plane, -1 for none),
+// both on a surface facing up, the median height difference along the plane's normal
+// lies within `sigmas` of the depth noise at their depth. A far floor bent by the
+// sensor's distortion rises from its plane smoothly (milk_cartoon: 2.5 cm at the image's
+// corner); a board above the next section's meets it at a step of its height, and the
+// step's face, which joins the two heights, faces sideways. nullopt where they do not
+// meet.
+std::optional<bool> meets_without_step(const Frame& f, const std::vector<int>& members,
+                                       const std::vector<int>& kept_of, int kept,
+                                       const PlaneFit& plane, int stride, double sigmas) {
+  const int w = f.width, h = f.height, reach = kSurfaceNormalSteps * stride;
+  const float ux = static_cast<float>(plane.n.x), uy = static_cast<float>(plane.n.y),
+              uz = static_cast<float>(plane.n.z);
+  const PointXYZRGB* pts = f.points.data();
+  std::vector<double> steps;  // in sigmas
+  for (int i : members) {
+    const int x = i % w, y = i / w;
+    if (!pixel_faces_up(pts, i, x, y, reach, w, h, ux, uy, uz)) continue;
+    const Vec3 p = to_vec(pts[i]);
+    for (int k = 1; k <= 2; ++k)
+      for (const auto& [dx, dy] :
+           {std::pair{k, 0}, std::pair{-k, 0}, std::pair{0, k}, std::pair{0, -k}}) {
+        const int nx = x + dx * stride, ny = y + dy * stride;
+        if (nx < 0 || nx >= w || ny < 0 || ny >= h) continue;
+        const int j = ny * w + nx;
+        if (kept_of[static_cast<size_t>(j)] != kept ||
+            !pixel_faces_up(pts, j, nx, ny, reach, w, h, ux, uy, uz))
+          continue;
+        const Vec3 q = to_vec(pts[j]);
+        steps.push_back(std::abs(dot(plane.n, p - q)) / kinect_sigma_z(0.5 * (p.z + q.z)));
+      }
+  }
+  if (steps.empty()) return std::nullopt;
+  std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2),
+                   steps.end());
+  return steps[steps.size() / 2] < sigmas;
+}
+
 // The mean of the surface's own normals at `pixels` (unit, each turned toward the
 // camera), from the neighbours `reach` pixels on along the row and the column as
 // facing_up reads them; zero when none has both neighbours. Each normal follows the
@@ -1775,6 +1820,8 @@ std::vector<int> members_on(const Frame& f, const PlaneRegions& region, const Pl
   // Only within a kept plane's reach (gap_reach): a board 3 cm below the table's height
   // against the wall behind it is another surface, not the table's noisy edge.
   std::vector<GapReach> reach;  // per kept plane
+  std::vector<int> kept_of(f.points.size(), -1);  // each strided pixel's kept plane
+  std::vector<Hull2> kept_hull;                   // per kept plane: its regions' hull
   auto near_kept = [&](size_t kept, Vec3 p) {
     return params.support_gap_reach_m <= 0 || reach[kept].near(p);
   };
@@ -1932,15 +1979,35 @@ std::vector<int> members_on(const Frame& f, const PlaneRegions& region, const Pl
     } else {
       // Region by region, within each earlier plane's reach (gap_reach): a board
       // beyond the table's reach stays though the table's noisy edge at its height
-      // does not.
+      // does not. A region lying mostly beyond the reach and outside the plane's hull is
+      // another surface, though its end touches it (fresh rooms 9839: a board 2 m away,
+      // 5 cm above the next section's, a sixteenth of it beside that one); over the hull
+      // it stands on the plane (a low box's top: OSD learn20, a box 5.5 cm tall, whose
+      // top's edges alone lie in the table's reach). The floor bent by the sensor's
+      // distortion where it reaches the image's corners is the floor too: it meets the
+      // floor without a step (meets_without_step). A table's neighbour that does is
+      // kept: a second table, or the far part of one tilted off the floor's up.
+      size_t lowest_kept = 0;
+      for (size_t o = 1; o < planes.size(); ++o)
+        if (planes[o].first.d > planes[lowest_kept].first.d) lowest_kept = o;
       std::erase_if(regions, [&](const PlaneRegions& r) {
         for (size_t o = 0; o < planes.size(); ++o) {
           std::vector<Vec3> sample;
-          for (size_t m = 0; m < r.members.size(); m += 7) {
+          size_t sampled = 0, over = 0;
+          for (size_t m = 0; m < r.members.size(); m += 7, ++sampled) {
             const Vec3 q = to_vec(f.points[r.members[m]]);
             if (near_kept(o, q)) sample.push_back(q);
+            over += kept_hull[o].contains(q);
           }
-          if (on_plane(planes[o].first, sample, params.min_support_gap_m)) return true;
+          if (!on_plane(planes[o].first, sample, params.min_support_gap_m)) continue;
+          const double least = params.support_edge_min_share * static_cast<double>(sampled);
+          if (static_cast<double>(sample.size()) >= least || static_cast<double>(over) >= least)
+            return true;
+          if (o == lowest_kept && params.support_floor_step_sigmas > 0 &&
+              meets_without_step(f, r.members, kept_of, static_cast<int>(o), planes[o].first,
+                                 stride, params.support_floor_step_sigmas)
+                  .value_or(false))
+            return true;
         }
         return false;
       });
@@ -1959,6 +2026,12 @@ std::vector<int> members_on(const Frame& f, const PlaneRegions& region, const Pl
       }
       if (!holds_support(f, above, ps.plane, params)) continue;
     }
+    std::vector<Vec3> hull_points;
+    for (const PlaneRegions& r : regions) {
+      for (int i : r.members) kept_of[static_cast<size_t>(i)] = static_cast<int>(planes.size());
+      hull_points.insert(hull_points.end(), r.hull_points.begin(), r.hull_points.end());
+    }
+    kept_hull.push_back(convex_hull(hull_points, ps.plane.n));
     planes.emplace_back(ps.plane, std::move(regions));
     reach.push_back(first_plane ? std::move(first_reach) : gap_reach(f, planes.back().second, ps.plane, params));
     if (up_ready) clear_near(planes.size() - 1);

@@ -91,6 +91,18 @@ struct ScanParams {
   // alone (10 to 20 cm with the cells of 0.1 before session 24).
   double support_gap_reach_m = 0.02;
   double support_gap_reach_sigmas = 3;
+  // A region near in height is an earlier support's noisy edge or what stands on it (an
+  // object's top) when at least this share of it lies within that support's reach or
+  // over its hull: one mostly beyond both is another surface whose end comes near (a
+  // board beside the next section's), unless it meets the floor without a step (the
+  // floor bent by the sensor's distortion at the image's corners). 0: any part in reach
+  // (before session 25).
+  double support_edge_min_share = 0.5;
+  // It meets the floor without a step where, in the median over neighbouring pixels on
+  // surfaces facing up, one its and one the floor's, their heights differ by less than
+  // this many axial-noise sigmas (a step's face, joining the two heights, faces
+  // sideways). 0: never (every region mostly beyond the floor's reach stays).
+  double support_floor_step_sigmas = 3;
   // A later support holds min_plane_points, or its pixels cover at least this share of
   // min_support_area_m2 on its plane (each pixel's footprint at its depth and view
   // angle, (z / fx)^2 / cos): a shelf's board 2 m away seen at a grazing angle is a
