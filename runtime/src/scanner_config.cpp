@@ -83,6 +83,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"support_gap_reach_sigmas", Kind::non_negative, &p.support_gap_reach_sigmas},
       {"support_edge_min_share", Kind::unit_share, &p.support_edge_min_share},
       {"support_floor_step_sigmas", Kind::non_negative, &p.support_floor_step_sigmas},
+      {"edges_of_supports_only", Kind::flag, nullptr, nullptr, 0, &p.edges_of_supports_only},
       {"min_support_seen_share", Kind::unit_share, &p.min_support_seen_share},
       {"grazing_support_deg", Kind::angle, &p.grazing_support_deg},
       {"grazing_max_seen_share", Kind::unit_share, &p.grazing_max_seen_share},

@@ -687,6 +687,17 @@ TEST(SupportRules, ABoardMostlyBeyondTheNextSectionsReachIsASupport) {
   expect_more_on_boards({9839u}, without, 2);
 }
 
+TEST(SupportRules, APlaneThatIsNoSupportTakesNoBoardAsItsEdge) {
+  // Held-out room 5041 (session 25): a band 1.7 cm above a shelf's board 1.5 m away was
+  // kept as a plane in the search and dropped later, no region of it holding a support
+  // seen from above. Kept, it took the board's region, over its hull and within the gap,
+  // as its edge, and the torus on the board, 1.7 m away, was missed. Only a plane that
+  // can be a support claims a region so (edges_of_supports_only).
+  ScanParams without;
+  without.edges_of_supports_only = false;
+  expect_more_on_boards({5041u}, without, 1);
+}
+
 TEST(FurnitureRules, AFaceAsWideAsTheSeatItStandsOnIsTheChairsBack) {
   // Fresh rooms 9824 and 9852 (session 24): a chair's back, 2 m away, stands on its seat,
   // which is a support of its own (9852's since the table's noisy edge reaches no farther

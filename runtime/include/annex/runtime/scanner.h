@@ -103,6 +103,10 @@ struct ScanParams {
   // this many axial-noise sigmas (a step's face, joining the two heights, faces
   // sideways). 0: never (every region mostly beyond the floor's reach stays).
   double support_floor_step_sigmas = 3;
+  // Only a plane that can be a support (the lowest, or one with a region that holds a
+  // support seen from above) takes a region as its edge or as standing on it. false:
+  // every plane kept in the search (before session 25).
+  bool edges_of_supports_only = true;
   // A later support holds min_plane_points, or its pixels cover at least this share of
   // min_support_area_m2 on its plane (each pixel's footprint at its depth and view
   // angle, (z / fx)^2 / cos): a shelf's board 2 m away seen at a grazing angle is a
