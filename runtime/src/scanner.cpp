@@ -1300,7 +1300,7 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
 
 // Whether a region meets a kept plane's pixels without a step: over the pairs of grid
 // neighbours (one or two grid steps apart along a row or a column), one the region's and
-// one the kept plane's (`kept_of` holds each strided pixel's kept plane, -1 for none),
+// one the kept plane's (`on_kept` is 1 at the kept plane's strided pixels),
 // both on a surface facing up, the median height difference along the plane's normal
 // lies within `sigmas` of the depth noise at their depth. A far floor bent by the
 // sensor's distortion rises from its plane smoothly (milk_cartoon: 2.5 cm at the image's
@@ -1308,8 +1308,8 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
 // step's face, which joins the two heights, faces sideways. nullopt where they do not
 // meet.
 std::optional<bool> meets_without_step(const Frame& f, const std::vector<int>& members,
-                                       const std::vector<int>& kept_of, int kept,
-                                       const PlaneFit& plane, int stride, double sigmas) {
+                                       const std::vector<char>& on_kept, const PlaneFit& plane,
+                                       int stride, double sigmas) {
   const int w = f.width, h = f.height, reach = kSurfaceNormalSteps * stride;
   const float ux = static_cast<float>(plane.n.x), uy = static_cast<float>(plane.n.y),
               uz = static_cast<float>(plane.n.z);
@@ -1325,7 +1325,7 @@ std::optional<bool> meets_without_step(const Frame& f, const std::vector<int>& m
         const int nx = x + dx * stride, ny = y + dy * stride;
         if (nx < 0 || nx >= w || ny < 0 || ny >= h) continue;
         const int j = ny * w + nx;
-        if (kept_of[static_cast<size_t>(j)] != kept ||
+        if (!on_kept[static_cast<size_t>(j)] ||
             !pixel_faces_up(pts, j, nx, ny, reach, w, h, ux, uy, uz))
           continue;
         const Vec3 q = to_vec(pts[j]);
@@ -1820,9 +1820,39 @@ std::vector<int> members_on(const Frame& f, const PlaneRegions& region, const Pl
   // Only within a kept plane's reach (gap_reach): a board 3 cm below the table's height
   // against the wall behind it is another surface, not the table's noisy edge.
   std::vector<GapReach> reach;  // per kept plane
-  std::vector<int> kept_of(f.points.size(), -1);  // each strided pixel's kept plane
-  std::vector<Hull2> kept_hull;                   // per kept plane: its regions' hull
-  std::vector<char> kept_holds;                   // per kept plane: a region holds a support
+  // Per kept plane, found when the regions' gap test below first asks (it seldom does):
+  // its regions' hull on its plane, and whether it can be a support beside the floor (a
+  // region of it, seen from above, holds one and spans min_support_area_m2, as the
+  // supports are made below; -1 until asked).
+  std::vector<std::optional<Hull2>> kept_hull;
+  std::vector<signed char> kept_holds;
+  const auto hull_of = [&](size_t o) -> const Hull2& {
+    if (!kept_hull[o]) {
+      std::vector<Vec3> hull_points;
+      for (const PlaneRegions& r : planes[o].second)
+        hull_points.insert(hull_points.end(), r.hull_points.begin(), r.hull_points.end());
+      kept_hull[o] = convex_hull(hull_points, planes[o].first.n);
+    }
+    return *kept_hull[o];
+  };
+  const auto holds_one = [&](size_t o) {
+    if (kept_holds[o] < 0) {
+      const PlaneFit& plane = planes[o].first;
+      kept_holds[o] = 0;
+      for (const PlaneRegions& r : planes[o].second) {
+        const PlaneRegions a = seen_from_above(f, r, plane, params);
+        if (holds_support(f, a.members, plane, params) &&
+            hull_area(convex_hull(a.hull_points, plane.n)) >= params.min_support_area_m2) {
+          kept_holds[o] = 1;
+          break;
+        }
+      }
+    }
+    return kept_holds[o] == 1;
+  };
+  // The strided pixels of the kept plane meets_without_step last asked about.
+  std::vector<char> on_kept;
+  size_t on_kept_plane = std::numeric_limits<size_t>::max();
   auto near_kept = [&](size_t kept, Vec3 p) {
     return params.support_gap_reach_m <= 0 || reach[kept].near(p);
   };
@@ -1995,26 +2025,37 @@ std::vector<int> members_on(const Frame& f, const PlaneRegions& region, const Pl
       size_t lowest_kept = 0;
       for (size_t o = 1; o < planes.size(); ++o)
         if (planes[o].first.d > planes[lowest_kept].first.d) lowest_kept = o;
-      std::erase_if(regions, [&](const PlaneRegions& r) {
-        for (size_t o = 0; o < planes.size(); ++o) {
-          if (params.edges_of_supports_only && !kept_holds[o] && o != lowest_kept) continue;
-          std::vector<Vec3> sample;
-          size_t sampled = 0, over = 0;
-          for (size_t m = 0; m < r.members.size(); m += 7, ++sampled) {
-            const Vec3 q = to_vec(f.points[r.members[m]]);
-            if (near_kept(o, q)) sample.push_back(q);
-            over += kept_hull[o].contains(q);
-          }
-          if (!on_plane(planes[o].first, sample, params.min_support_gap_m)) continue;
-          const double least = params.support_edge_min_share * static_cast<double>(sampled);
-          if (static_cast<double>(sample.size()) >= least || static_cast<double>(over) >= least)
-            return true;
-          if (o == lowest_kept && params.support_floor_step_sigmas > 0 &&
-              meets_without_step(f, r.members, kept_of, static_cast<int>(o), planes[o].first,
-                                 stride, params.support_floor_step_sigmas)
-                  .value_or(false))
-            return true;
+      const auto claims = [&](size_t o) {
+        return !params.edges_of_supports_only || o == lowest_kept || holds_one(o);
+      };
+      // Whether region r is kept plane o's noisy edge or stands on it.
+      const auto edge_of = [&](const PlaneRegions& r, size_t o) {
+        std::vector<Vec3> sampled, sample;  // every seventh pixel, and those in o's reach
+        for (size_t m = 0; m < r.members.size(); m += 7) {
+          sampled.push_back(to_vec(f.points[r.members[m]]));
+          if (near_kept(o, sampled.back())) sample.push_back(sampled.back());
         }
+        if (!on_plane(planes[o].first, sample, params.min_support_gap_m)) return false;
+        const double least = params.support_edge_min_share * static_cast<double>(sampled.size());
+        if (static_cast<double>(sample.size()) >= least) return claims(o);
+        const Hull2& hull = hull_of(o);
+        const auto over =
+            std::count_if(sampled.begin(), sampled.end(), [&](Vec3 q) { return hull.contains(q); });
+        if (static_cast<double>(over) >= least) return claims(o);
+        if (o != lowest_kept || params.support_floor_step_sigmas <= 0) return false;
+        if (on_kept_plane != o) {
+          on_kept.assign(f.points.size(), 0);
+          for (const PlaneRegions& k : planes[o].second)
+            for (int i : k.members) on_kept[static_cast<size_t>(i)] = 1;
+          on_kept_plane = o;
+        }
+        return meets_without_step(f, r.members, on_kept, planes[o].first, stride,
+                                  params.support_floor_step_sigmas)
+            .value_or(false);
+      };
+      std::erase_if(regions, [&](const PlaneRegions& r) {
+        for (size_t o = 0; o < planes.size(); ++o)
+          if (edge_of(r, o)) return true;
         return false;
       });
       if (regions.empty()) continue;
@@ -2032,24 +2073,8 @@ std::vector<int> members_on(const Frame& f, const PlaneRegions& region, const Pl
       }
       if (!holds_support(f, above, ps.plane, params)) continue;
     }
-    std::vector<Vec3> hull_points;
-    for (const PlaneRegions& r : regions) {
-      for (int i : r.members) kept_of[static_cast<size_t>(i)] = static_cast<int>(planes.size());
-      hull_points.insert(hull_points.end(), r.hull_points.begin(), r.hull_points.end());
-    }
-    kept_hull.push_back(convex_hull(hull_points, ps.plane.n));
-    // Whether it can be a support beside the floor: a region of it, seen from above,
-    // holds one and spans min_support_area_m2 (as the supports are made, below).
-    {
-      bool any = false;
-      for (const PlaneRegions& r : regions) {
-        const PlaneRegions a = seen_from_above(f, r, ps.plane, params);
-        any = any ||
-              (holds_support(f, a.members, ps.plane, params) &&
-               hull_area(convex_hull(a.hull_points, ps.plane.n)) >= params.min_support_area_m2);
-      }
-      kept_holds.push_back(any);
-    }
+    kept_hull.emplace_back();
+    kept_holds.push_back(-1);
     planes.emplace_back(ps.plane, std::move(regions));
     reach.push_back(first_plane ? std::move(first_reach) : gap_reach(f, planes.back().second, ps.plane, params));
     if (up_ready) clear_near(planes.size() - 1);
