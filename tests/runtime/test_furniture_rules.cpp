@@ -681,7 +681,7 @@ TEST(SupportRules, ABoardMostlyBeyondTheNextSectionsReachIsASupport) {
   // section's board (a support). A sixteenth of its pixels lay within that board's reach,
   // at a height within min_support_gap_m of it: the whole board was taken for that
   // board's noisy edge, and the box and the ball on it were missed. A region is an edge
-  // only when most of it lies in reach (support_edge_min_share).
+  // only when half of it lies in reach or over the plane's hull (support_edge_min_share).
   ScanParams without;
   without.support_edge_min_share = 0;
   expect_more_on_boards({9839u}, without, 2);

@@ -420,7 +420,7 @@ const PhysicalObject* nearest(const ScanResult& scan, double col) {
 TEST(ScannerReal, TheFloorBentAtTheImagesCornerIsNoSecondSupport) {
   // milk_cartoon: the carpet rises 2.5 cm above the floor's plane toward the image's
   // top right corner, 1.8 m away (the depth's distortion). The rise, above the floor's
-  // band and mostly beyond its reach, holds a support's area: with
+  // band and mostly beyond its reach and hull, holds a support's area: with
   // support_edge_min_share it is a region of its own, and it meets the floor without a
   // step, so it is the floor's (support_floor_step_sigmas), not a second support.
   const auto f = real_frame("milk_cartoon_all_small_clorox.pcd");
