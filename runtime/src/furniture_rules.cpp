@@ -117,6 +117,12 @@ bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
   return end_hidden(end_view(f, grid, step, tolerance, true));
 }
 
+bool top_seen_ending(const Frame& f, const std::vector<int>& grid, int step,
+                     const ToleranceAt& tolerance) {
+  const FootView v = end_view(f, grid, step, tolerance, true);
+  return v.columns >= 3 && 2 * v.farther > v.columns;
+}
+
 bool foot_hidden_high(const Frame& f, const std::vector<int>& grid, int step, double bottom_h,
                       const ScanParams& params, const ToleranceAt& tolerance) {
   if (!(params.hidden_foot_min_height_m > 0 && bottom_h > params.hidden_foot_min_height_m))

@@ -43,6 +43,13 @@ bool top_cut_by_band(const Frame& f, const std::vector<int>& grid, int step, Vec
 bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
                   const ToleranceAt& tolerance);
 
+// Whether the view passes over the cluster's top to what lies behind it: in more than
+// half of its grid columns (three at least) the first valid pixel one to three grid rows
+// above its topmost pixel is farther than that pixel by more than the tolerance. Its top
+// is seen, so it ends there: nothing of it rises on to meet what is above.
+bool top_seen_ending(const Frame& f, const std::vector<int>& grid, int step,
+                     const ToleranceAt& tolerance);
+
 // Whether the cluster's lowest point (`bottom_h` above its support) lies more than
 // params.hidden_foot_min_height_m above the support and something nearer hides its foot:
 // in more than half of its grid columns the first valid pixel one to three grid rows

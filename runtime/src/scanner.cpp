@@ -2753,7 +2753,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // higher one is that board's content (a shelf's lower board, a desk under its
     // hutch), not what holds the higher one up.
     bool under = false;
-    for (size_t o = 0; o < ns && !under && (k == static_cast<int>(lowest) || !params.legs_on_lowest_only); ++o) {
+    double over_h = 1e9;  // the height of the nearest support it stands under above its own
+    for (size_t o = 0; o < ns && (k == static_cast<int>(lowest) || !params.legs_on_lowest_only);
+         ++o) {
       if (static_cast<int>(o) == k) continue;
       const PlaneFit& top = found[o].plane;
       if (top.d >= plane.d || dot(top.n, plane.n) < cos_tilt) continue;  // not above it
@@ -2774,9 +2776,15 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
         slo = std::min(slo, dot(across, q));
         shi = std::max(shi, dot(across, q));
       }
-      under = hi - lo < params.under_width_share * (shi - slo);
+      under = under || hi - lo < params.under_width_share * (shi - slo);
+      over_h = std::min(over_h, plane.d - top.d);
     }
-    if (under) continue;
+    // A leg rises to the support's underside; what is seen ending lower is no leg.
+    const auto ends_below = [&] {
+      return params.leg_top_reach_m > 0 && over_h - top_h > params.leg_top_reach_m &&
+             top_seen_ending(f, grid, stride, tolerance);
+    };
+    if (under && !ends_below()) continue;
     // A thin member standing on its support and rising to furniture height is no
     // free-standing prop: an upright thing narrower than min_stand_ratio of its height
     // tips over past a few degrees (atan 0.15: 8.5). It is a table's or a chair's leg,

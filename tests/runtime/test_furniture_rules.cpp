@@ -165,6 +165,33 @@ TEST(FurnitureRules, WhatANearTableTopHidesIsNoProp) {
   expect_rule_takes({5066u}, false, kLabelWall, with, without, 1);
 }
 
+TEST(FurnitureRules, WhatIsSeenEndingWellBelowTheTableIsNoLeg) {
+  // Rooms 10048, 9586 and 9577 (session 26): a cylinder 22 cm tall, another 18 cm tall
+  // and a torus stand on the floor under a table 2 to 2.3 m away, narrow against its
+  // width, so the leg rule dropped them. The view passes over their tops to the floor
+  // behind, 50 cm and more below the table: they end there, and a leg would rise to the
+  // table's underside (leg_top_reach_m).
+  ScanParams without;
+  without.leg_top_reach_m = 0;
+  const std::vector<std::uint64_t> seeds{10048u, 9586u, 9577u};
+  const Seen on = scan_seeds(seeds, true, kLabelLeg, ScanParams{}, true);
+  const Seen off = scan_seeds(seeds, true, kLabelLeg, without, true);
+  EXPECT_EQ(on.found, off.found + 3);
+  EXPECT_EQ(on.whole, 0);
+  EXPECT_EQ(off.whole, 0);
+}
+
+TEST(FurnitureRules, ALegSeenEndingJustUnderTheTableIsStillALeg) {
+  // Room 9771 (session 26): a coffee table's leg 2.7 m away, its top 4 cm under the
+  // table's surface. Five of its nine columns see the floor past its top (the table's
+  // edge above it is 3 cm thick), so it reads as seen ending; it ends within a hand's
+  // width of the table, where a leg meets the top or its apron, and stays a leg.
+  ScanParams any_gap;
+  any_gap.leg_top_reach_m = 0.01;
+  EXPECT_EQ(scan_seeds({9771u}, true, kLabelLeg, ScanParams{}, true).whole, 0);
+  EXPECT_EQ(scan_seeds({9771u}, true, kLabelLeg, any_gap, true).whole, 1);
+}
+
 TEST(FurnitureRules, WhatSomethingNearerHidesTheTopOfIsPartial) {
   // Held-out rooms 5073, 5100 and 5109: the wall seen under a shelf's lower board or
   // between a chair's seat and the table, its top against the nearer board or seat, came
@@ -326,10 +353,12 @@ TEST(SupportRules, ObjectsOnALowerBoardAreNoLegsOfTheUpperOne) {
   // a table (its legs) and dropped. Legs stand on the floor (legs_on_lowest_only): what
   // stands on a raised board under another is the board's content. 5043's two are found
   // now; in 5029 and 5069 the object then joins the wall behind the board (one cluster,
-  // the shelf's by most pixels, partial): not found either way.
+  // the shelf's by most pixels, partial): not found either way. The compared side has no
+  // leg_top_reach_m either: it keeps one of them as seen ending well below the upper board.
   const std::vector<std::uint64_t> seeds{5029u, 5043u, 5069u};
   ScanParams without;
   without.legs_on_lowest_only = false;
+  without.leg_top_reach_m = 0;
   expect_more_on_boards(seeds, without, 2);
 }
 

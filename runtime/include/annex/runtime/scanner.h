@@ -152,6 +152,13 @@ struct ScanParams {
   // (a shelf's lower board under its upper one, a desk under its hutch). false: the
   // rule on every support (before session 9).
   bool legs_on_lowest_only = true;
+  // ... unless it is seen ending more than this far below that support: a leg rises to
+  // the support's underside (under the top's thickness and an apron, a few cm to a
+  // hand's width), so whatever lies just above its top in the image is that support,
+  // nearer, or its front edge. Where the view passes over its top to the floor or the
+  // wall behind (top_seen_ending), lower, it ends there: a ball, a bin or a bottle
+  // standing under the table. 0: the rule whatever lies above (before session 26).
+  double leg_top_reach_m = 0.15;
   // A body whose top holds objects is furniture (a cabinet, a shelf) when that top
   // stands at least this far above the body's own support: furniture rises to a
   // working height, while a box a can stands on is a prop of hand size (stacking).
