@@ -551,7 +551,8 @@ Circle robust_circle(const std::vector<std::array<double, 2>>& q, const std::vec
 // about 1 for a rectangle's. `circle` gets the circle. 0 when the outline is not seen
 // round most directions. `rect` starts the rectangle (a, b, azimuth, half sides); a
 // negative half side asks for the outline's own minimum-area rectangle.
-constexpr double kRoundOverRectangle = 2;  // the circle must leave half the rectangle's energy
+// A disc on its rim must be round by this much: the circle leaves half the rectangle's energy.
+constexpr double kRoundOverRectangle = 2;
 double outline_round_over_rectangle(const std::vector<std::array<double, 2>>& pts,
                                     const std::vector<double>& pt_tol, const std::vector<double>& depth,
                                     std::array<double, 5> rect, const ShapeRecognizerParams& params,
@@ -2074,7 +2075,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     Circle rim;
     const double roundness = top_seen >= 30 ? footprint_round_over_rectangle(s, cands[best], params, rim) : 0;
     if (top_seen >= 30 && top_seen >= 0.3 * s.p.size() &&
-        roundness >= kRoundOverRectangle) {
+        roundness >= params.min_footprint_roundness) {
       Candidate round_top;
       round_top.model = Model::cylinder;
       round_top.ca = rim.x;

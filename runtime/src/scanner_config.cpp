@@ -137,6 +137,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"shape_refine_sample_points", Kind::whole, nullptr, &p.shape.refine_sample_points, 0},
       {"shape_max_round_facetedness", Kind::unit_share, &p.shape.max_round_facetedness},
       {"shape_min_round_outline", Kind::unit_share, &p.shape.min_round_outline},
+      {"shape_min_footprint_roundness", Kind::non_negative, &p.shape.min_footprint_roundness},
       {"shape_min_foot_seen_pixels", Kind::whole, nullptr, &p.shape.min_foot_seen_pixels, 1},
       {"shape_min_foot_seen_share", Kind::unit_share, &p.shape.min_foot_seen_share},
       {"shape_foot_seen_model_share", Kind::unit_share, &p.shape.foot_seen_model_share},

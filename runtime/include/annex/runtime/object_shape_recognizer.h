@@ -71,6 +71,14 @@ struct ShapeRecognizerParams {
   // outline's directions on the fitted circle (a square's outline puts about 0.3 there,
   // a circle all but the arc the table cuts off).
   double min_round_outline = 0.6;
+  // A box that wins on a flat top seen from above gives way to the upright cylinder (and
+  // the cone from it) of its footprint's round outline when the rectangle's residual
+  // energy on that outline is at least this many times the circle's: at 1 the circle,
+  // with two parameters fewer, explains the outline as well as the rectangle does. A
+  // box's outline gives 0 to 0.8 (96 boxes on fresh rooms 9501-9620 and 10001-10120); a
+  // flat bowl 2.3 m away, whose rim the depth noise blurs, 1.1 to 1.9 (before session 26:
+  // 2, the circle leaving half of the rectangle's energy).
+  double min_footprint_roundness = 1.0;
   // An upright cylinder whose side should face the camera but shows below its rim less
   // than this share of the pixels it predicts there is a body narrowing under its rim (a
   // bowl widening up seen from above), when a frustum with a foot of at least
