@@ -2147,6 +2147,18 @@ std::vector<int> members_on(const Frame& f, const PlaneRegions& region, const Pl
       one_support(plane, regions);
       continue;
     }
+    // Regions that each hold a support and, joined, hide what lies below them are one
+    // surface parted by what stands on it (a table seen from just above its height, its
+    // middle hidden by a ball and a bowl); two tops at one height with the floor seen
+    // between them are two.
+    if (params.join_parted_surfaces && std::count(holds.begin(), holds.end(), 1) >= 2 &&
+        hides_below(k)) {
+      std::vector<PlaneRegions> parts;
+      for (size_t r = 0; r < above.size(); ++r)
+        if (holds[r]) parts.push_back(std::move(above[r]));
+      one_support(plane, parts);
+      continue;
+    }
     for (size_t r = 0; r < above.size(); ++r) {
       if (!holds[r]) continue;
       Found fd;

@@ -85,6 +85,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"support_floor_step_sigmas", Kind::non_negative, &p.support_floor_step_sigmas},
       {"edges_of_supports_only", Kind::flag, nullptr, nullptr, 0, &p.edges_of_supports_only},
       {"min_support_seen_share", Kind::unit_share, &p.min_support_seen_share},
+      {"join_parted_surfaces", Kind::flag, nullptr, nullptr, 0, &p.join_parted_surfaces},
       {"grazing_support_deg", Kind::angle, &p.grazing_support_deg},
       {"grazing_max_seen_share", Kind::unit_share, &p.grazing_max_seen_share},
       {"grazing_max_through_share", Kind::unit_share, &p.grazing_max_through_share},

@@ -114,6 +114,13 @@ struct ScanParams {
   // for a table a metre away. Half: the objects on a board hide part of it, and the
   // hull (min_support_area_m2) still bounds the whole support. 0: the count alone.
   double min_support_seen_share = 0.5;
+  // A raised plane's regions that each hold a support and, joined, hide what lies below
+  // them (the rays crossing their joint hull end on or above it, as at grazing incidence)
+  // are one support: one surface parted by what stands on it. Room 9883: a table 1.4 m
+  // away seen from 25 cm above it, its middle hidden by a ball and a bowl, was two
+  // supports, the two objects between them in neither hull. false: one support per
+  // region (before session 26).
+  bool join_parted_surfaces = true;
   // A later support seen from fewer degrees above its plane than this (the camera's
   // height over it against its regions' mean range) is one support of all its regions,
   // as the floor is: at that incidence the Kinect's pattern returns too little from
