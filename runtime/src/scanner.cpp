@@ -1208,6 +1208,14 @@ bool holds_support(const Frame& f, const std::vector<int>& members, const PlaneF
              params.min_support_seen_share * params.min_support_area_m2;
 }
 
+// Whether a region's part seen from above (seen_from_above) is a support: its pixels
+// hold one (holds_support) and its hull spans min_support_area_m2.
+bool seen_part_is_support(const Frame& f, const PlaneRegions& seen, const PlaneFit& plane,
+                          const ScanParams& params) {
+  return holds_support(f, seen.members, plane, params) &&
+         hull_area(convex_hull(seen.hull_points, plane.n)) >= params.min_support_area_m2;
+}
+
 // Where a kept plane's noisy edge can lie: the cells, support_gap_reach_m square on the
 // plane, within reach of its regions' pixels. A band within min_support_gap_m of a plane
 // is that plane's own far edge, left outside its band by the depth noise, only there:
@@ -1840,9 +1848,7 @@ std::vector<int> members_on(const Frame& f, const PlaneRegions& region, const Pl
       const PlaneFit& plane = planes[o].first;
       kept_holds[o] = 0;
       for (const PlaneRegions& r : planes[o].second) {
-        const PlaneRegions a = seen_from_above(f, r, plane, params);
-        if (holds_support(f, a.members, plane, params) &&
-            hull_area(convex_hull(a.hull_points, plane.n)) >= params.min_support_area_m2) {
+        if (seen_part_is_support(f, seen_from_above(f, r, plane, params), plane, params)) {
           kept_holds[o] = 1;
           break;
         }
@@ -2132,8 +2138,7 @@ std::vector<int> members_on(const Frame& f, const PlaneRegions& region, const Pl
     for (const PlaneRegions& region : regions) {
       above.push_back(seen_from_above(f, region, plane, params));
       const PlaneRegions& a = above.back();
-      holds.push_back(holds_support(f, a.members, plane, params) &&
-                      hull_area(convex_hull(a.hull_points, plane.n)) >= params.min_support_area_m2);
+      holds.push_back(seen_part_is_support(f, a, plane, params));
       members += region.members.size();
       seen += a.members.size();
     }
