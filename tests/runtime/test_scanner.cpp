@@ -942,6 +942,37 @@ TEST(ScannerFar, AFlatBowlsRimBlurredByTheNoiseIsStillRound) {
   }
 }
 
+TEST(ScannerFar, AConeWiderAtItsFootThanItsBoxIsStillACone) {
+  // Fresh room 9855 (session 27): a cone 12 cm wide at its foot and 17 cm tall on the
+  // floor 2 m away, seen past a neighbour. Its box's faces sit at their points' median,
+  // at the cone's middle: 6 cm wide. The cone's radius (6.3 cm) passed that width, the
+  // bound for a flat face read as a huge arc, and the cone was dropped: a cylinder 2 cm
+  // thick was what stood. The bound is now the points' widest extent (8 cm).
+  const Result<SyntheticScene> scene = generate_scene(room_scene_params(9855));
+  ASSERT_TRUE(scene.ok());
+  const int t = find_object(*scene, [](const SyntheticObject& o) {
+    return o.kind == ShapeKind::cone && !o.apex_down && std::abs(o.dimensions_m[0] - 0.061) < 0.001;
+  });
+  ASSERT_GE(t, 0);
+  const SyntheticFrame f = render_scene(*scene);
+  const Result<ScanResult> scan = scan_frame(f.frame);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  const ScanCluster* cone = nullptr;
+  for (const ScanCluster& c : scan->clusters)
+    if (majority_label(f, c) == t) cone = &c;
+  ASSERT_NE(cone, nullptr);
+  ASSERT_FALSE(cone->shape.primitives.empty());
+  const PhysicalPrimitive& got = cone->shape.primitives[0].primitive;
+  ASSERT_EQ(got.kind, ShapeKind::cone) << shape_name(got.kind);
+  EXPECT_NEAR(got.dimensions_m[0], 0.061, 0.005);  // radius at the foot
+  EXPECT_NEAR(got.dimensions_m[1], 0.169, 0.015);  // height
+  // The case: the box is narrower than the cone's radius.
+  for (const ShapeFit& c : cone->shape.candidates)
+    if (c.primitive.kind == ShapeKind::box)
+      EXPECT_LT(std::max(c.primitive.dimensions_m[0], c.primitive.dimensions_m[1]),
+                got.dimensions_m[0]);
+}
+
 // World scene `seed` scanned: a support lies at the table's height, at least
 // `min_on_table` objects (whole ones only if `whole_only`) stand on it, and its legs and
 // the wall are never reported whole.
