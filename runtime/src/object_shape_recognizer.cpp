@@ -1748,15 +1748,23 @@ std::optional<Candidate> frustum_under_rim(const Samples& s, const Candidate& cy
 }
 
 // Whether the camera saw the support's point g through an upright cylinder's, cone's or
-// box's solid shrunk by `margin` but for its foot (its fit and the noise leave it that
-// unsure): g lies inside the shrunk foot, and the ray from the eye to g enters the shrunk
-// solid before g (ray_into_solid). Only g inside the foot counts: the table seen behind an
-// object over its top tells how well a primitive follows a rounded top, not what stands
-// there.
-bool seen_through(const Candidate& c, const CandidateTerms& k, Local eye, Local g, double margin) {
+// box's solid shrunk by `model` but for its foot (the share its fit leaves unsure): g
+// lies inside the shrunk foot, and the ray from the eye to g runs inside the shrunk solid
+// for more than `noise` before g (ray_into_solid). The depth noise moves a point along
+// its ray, so that is how far behind the solid's surface the noise could have put a
+// point of it. Only g inside the foot counts: the table seen behind an object over its
+// top tells how well a primitive follows a rounded top, not what stands there.
+// With `along_ray` false, the solid is shrunk by `noise` too, in every direction, and any
+// run inside it counts.
+bool seen_through(const Candidate& c, const CandidateTerms& k, Local eye, Local g, double model,
+                  double noise, bool along_ray) {
   // Its foot stays on the support (where g lies): only its top and sides move in.
-  const RayIntoSolid r = ray_into_solid(c, k, eye, g, margin, margin, 0);
-  return r.inside_foot && r.hit.t < r.length;
+  if (!along_ray) {
+    const RayIntoSolid r = ray_into_solid(c, k, eye, g, model + noise, model + noise, 0);
+    return r.inside_foot && r.hit.t < r.length;
+  }
+  const RayIntoSolid r = ray_into_solid(c, k, eye, g, model, model, 0);
+  return r.inside_foot && r.length - r.hit.t > noise;
 }
 
 // The height under which an object's points are its foot: a face running down to its
@@ -1793,8 +1801,9 @@ void drop_ground_under_faces(Samples& s) {
 }
 
 // The distances from the axis of the support's points the camera saw through an upright
-// cylinder, cone or box (min_foot_seen_pixels), its solid shrunk by each point's
-// tolerance and foot_seen_model_share of its foot's size; none for the other shapes. A box
+// cylinder, cone or box (min_foot_seen_pixels), its solid shrunk by
+// foot_seen_model_share of its foot's size, by more than each point's tolerance along its
+// ray (seen_through); none for the other shapes. A box
 // only when the object reaches down to its support (kMinFootPoints of its points within
 // kFaceFootHeight): a box standing on another and overhanging it shows the table under
 // it (OSD learn18) and is still a box, while a body narrowing under its rim (a cup seen
@@ -1808,7 +1817,7 @@ std::vector<double> seen_through_radii(const Samples& s, const Candidate& c,
   const double model = params.foot_seen_model_share * (box ? std::min(c.ex, c.ey) : c.r0);
   std::vector<double> radii;
   for (size_t i = 0; i < s.ground.size(); ++i)
-    if (seen_through(c, k, s.eye, s.ground[i], s.ground_tol[i] + model))
+    if (seen_through(c, k, s.eye, s.ground[i], model, s.ground_tol[i], params.foot_seen_along_ray))
       radii.push_back(len2(s.ground[i].a - c.ca, s.ground[i].b - c.cb));
   return radii;
 }

@@ -142,6 +142,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"shape_min_foot_seen_pixels", Kind::whole, nullptr, &p.shape.min_foot_seen_pixels, 1},
       {"shape_min_foot_seen_share", Kind::unit_share, &p.shape.min_foot_seen_share},
       {"shape_foot_seen_model_share", Kind::unit_share, &p.shape.foot_seen_model_share},
+      {"shape_foot_seen_along_ray", Kind::flag, nullptr, nullptr, 0, &p.shape.foot_seen_along_ray},
       {"shape_own_side_hides", Kind::flag, nullptr, nullptr, 0, &p.shape.own_side_hides},
       {"segment_enabled", Kind::flag, nullptr, nullptr, 0, &p.segment.enabled},
       {"stack_on_objects", Kind::flag, nullptr, nullptr, 0, &p.stack_on_objects},

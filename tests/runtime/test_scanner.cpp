@@ -920,6 +920,10 @@ TEST(ScannerFar, AFlatBowlsRimBlurredByTheNoiseIsStillRound) {
   };
   ShapeRecognizerParams strict;
   strict.min_footprint_roundness = 2;
+  // Since session 27 the table seen under a rim along the rays (foot_seen_along_ray)
+  // contradicts the box of some of these bowls too: off here, to compare the roundness
+  // alone.
+  strict.foot_seen_along_ray = false;
   ScanParams before;
   before.shape = strict;
   for (const Bowl& b : {Bowl{10030u, 0.117}, Bowl{9532u, 0.102}, Bowl{9924u, 0.071}}) {
@@ -971,6 +975,46 @@ TEST(ScannerFar, AConeWiderAtItsFootThanItsBoxIsStillACone) {
     if (c.primitive.kind == ShapeKind::box)
       EXPECT_LT(std::max(c.primitive.dimensions_m[0], c.primitive.dimensions_m[1]),
                 got.dimensions_m[0]);
+}
+
+TEST(ScannerFar, AFlatBowlSeenFromAboveTwoMetresAwayIsAFrustum) {
+  // Plain worlds 5018 and 3012 (session 27): solid bowls 14 and 19 cm wide at the rim,
+  // 4.4 and 3.6 cm tall, 2 m away, seen from above: the rim hides the side, and the
+  // cylinder of the rim explains every point. The table shows under the rim, where the
+  // cylinder would stand, but the tolerance there is 1.5 cm: shrunk by it in every
+  // direction the cylinder had next to no solid left to be seen through. The depth
+  // noise moves a point along its ray, so a table point whose ray runs inside the
+  // cylinder for more than the tolerance is seen through it (foot_seen_along_ray).
+  struct Bowl {
+    std::uint64_t seed;
+    double radius;  // the truth's, to tell it among the scene's objects
+  };
+  ScanParams before;
+  before.shape.foot_seen_along_ray = false;
+  for (const Bowl& b : {Bowl{5018u, 0.072}, Bowl{3012u, 0.096}}) {
+    const Result<SyntheticScene> scene = generate_scene(world_scene_params(b.seed));
+    ASSERT_TRUE(scene.ok());
+    const int t = find_object(*scene, [&](const SyntheticObject& o) {
+      return o.kind == ShapeKind::cone && o.apex_down &&
+             std::abs(o.dimensions_m[0] - b.radius) < 0.001;
+    });
+    ASSERT_GE(t, 0) << "seed " << b.seed;
+    const SyntheticFrame f = render_scene(*scene);
+    for (const bool now : {true, false}) {
+      const Result<ScanResult> scan = scan_frame(f.frame, now ? ScanParams{} : before);
+      ASSERT_TRUE(scan.ok()) << scan.error().format();
+      std::optional<ShapeKind> kind;
+      for (size_t k = 0; k < scan->clusters.size(); ++k)
+        if (majority_label(f, scan->clusters[k]) == t &&
+            !scan->scene.objects[k].primitives.empty()) {
+          EXPECT_FALSE(scan->scene.objects[k].partial) << "seed " << b.seed;
+          kind = scan->scene.objects[k].primitives[0].kind;
+        }
+      ASSERT_TRUE(kind) << "seed " << b.seed;
+      EXPECT_EQ(*kind, now ? ShapeKind::cone : ShapeKind::cylinder)
+          << "seed " << b.seed << ": " << shape_name(*kind);
+    }
+  }
 }
 
 // World scene `seed` scanned: a support lies at the table's height, at least

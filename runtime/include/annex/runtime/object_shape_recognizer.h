@@ -96,10 +96,15 @@ struct ShapeRecognizerParams {
   // it and is still a box.
   int min_foot_seen_pixels = 20;
   double min_foot_seen_share = 0.05;
-  // The solid is shrunk, for that test, by each point's tolerance and this share of its
-  // foot's radius (a box: of its shorter half side): a primitive fitted to a real body
-  // (a dome read as a cone, a box's rounded edges) misses its outline by that much.
+  // The solid is shrunk, for that test, by this share of its foot's radius (a box: of its
+  // shorter half side): a primitive fitted to a real body (a dome read as a cone, a box's
+  // rounded edges) misses its outline by that much.
   double foot_seen_model_share = 0.1;
+  // ... and a point counts when the ray to it runs inside that solid for more than the
+  // point's tolerance (noise_factor sigma_z): the depth noise moves a point along its
+  // ray, not across it. false: the solid is shrunk by the tolerance in every direction
+  // too (a flat bowl 2.4 m away, 4 cm tall, then had no solid left to see through).
+  bool foot_seen_along_ray = true;
   // A closed solid hides its own far side: a point the camera could see only through
   // an upright cylinder's or cone's side is not explained by it (through its top it may
   // be: the inside of a cup). A cylinder wider than two touching bodies, its axis
