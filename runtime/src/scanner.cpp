@@ -81,6 +81,23 @@ double plane_band(const ScanParams& params, double z) {
   return std::max(params.plane_distance_m, params.plane_noise_factor * kinect_sigma_z(z));
 }
 
+// The depth noise off a plane of normal n at the pixel p: sigma_z along its ray, seen
+// across the plane (|n . ray|).
+double noise_across(Vec3 p, Vec3 n) {
+  return kinect_sigma_z(p.z) * std::abs(dot(n, p)) / std::max(norm(p), 1e-9);
+}
+
+// The band of heights over a support's plane n where the pixel at p is its surface, not
+// an object's (band_along_ray): plane_noise_factor times the noise across the plane,
+// times `scale`, what the support's own surface shows of it (surface_noise_scale); no
+// wider than plane_band.
+double surface_band(const ScanParams& params, Vec3 p, Vec3 n, double scale) {
+  const double band = plane_band(params, p.z);
+  if (!params.band_along_ray) return band;
+  return std::clamp(params.plane_noise_factor * noise_across(p, n) * scale, params.plane_distance_m,
+                    band);
+}
+
 // Cluster tolerance at depth z: the configured one, or wider where depth noise makes
 // neighbours on one surface lie farther apart (a wardrobe 3.5 m away is not sliced).
 double cluster_tolerance(const ScanParams& params, double z) {
@@ -742,9 +759,11 @@ bool continues_above(const Frame& f, const std::vector<int>& grid_pixels, int st
 // above the support's band, below the height band's top, within the clustering
 // tolerance (tol2 its square) of c.
 bool expands_to(const PointXYZRGB& c, const PointXYZRGB& q, double tol2, const PlaneFit& plane,
-                const ScanParams& params) {
+                double band_scale, const ScanParams& params) {
   const double h = dot(plane.n, to_vec(q)) + plane.d;
-  if (h < std::max(params.min_height_m, plane_band(params, q.z)) || h > params.max_height_m) return false;
+  if (h < std::max(params.min_height_m, surface_band(params, to_vec(q), plane.n, band_scale)) ||
+      h > params.max_height_m)
+    return false;
   const double dx = c.x - q.x, dy = c.y - q.y, dz = c.z - q.z;
   return dx * dx + dy * dy + dz * dz <= tol2;
 }
@@ -752,7 +771,8 @@ bool expands_to(const PointXYZRGB& c, const PointXYZRGB& q, double tol2, const P
 // Full-resolution pixels of a cluster found on the strided grid: each grid pixel's
 // block, keeping pixels in the height band and near their grid pixel in 3D.
 std::vector<int> expand_cluster(const Frame& f, const std::vector<int>& grid_pixels, int step,
-                                const PlaneFit& plane, const ScanParams& params) {
+                                const PlaneFit& plane, double band_scale,
+                                const ScanParams& params) {
   // Pixels come out in raster order: grid pixels sorted, then each grid row's blocks
   // emitted one image row at a time (blocks do not overlap), so nothing larger than
   // the grid list is sorted.
@@ -772,7 +792,7 @@ std::vector<int> expand_cluster(const Frame& f, const std::vector<int>& grid_pix
         for (int dx = 0; dx < step && x + dx < f.width; ++dx) {
           const int j = (y + dy) * f.width + x + dx;
           const PointXYZRGB& q = f.points[j];
-          if (has_depth(q) && expands_to(c, q, tol2, plane, params)) out.push_back(j);
+          if (has_depth(q) && expands_to(c, q, tol2, plane, band_scale, params)) out.push_back(j);
         }
       }
     row = end;
@@ -1167,6 +1187,31 @@ struct Found {
 };
 
 namespace {
+
+// Per support, how far its own surface lies off its plane in units of the noise across
+// it (noise_across): a robust sigma (the median of |h| / noise over 0.6745) of its
+// pixels within plane_band and inside its hull, every kScaleStride-th strided pixel; at
+// least 1. Above 1 where the plane is fitted off (a far table's tilted by degrees) or
+// the sensor bends the surface: the band (surface_band) widens with it.
+std::vector<double> surface_noise_scale(const Frame& f, const std::vector<int>& strided,
+                                        const std::vector<Found>& found, const ScanParams& params) {
+  constexpr size_t kScaleStride = 4, kLeast = 30;
+  std::vector<double> scale(found.size(), 1.0);
+  if (!params.band_along_ray) return scale;
+  for (size_t k = 0; k < found.size(); ++k) {
+    std::vector<double> ratio;
+    for (size_t s = 0; s < strided.size(); s += kScaleStride) {
+      const Vec3 p = to_vec(f.points[static_cast<size_t>(strided[s])]);
+      const double h = dot(found[k].plane.n, p) + found[k].plane.d;
+      if (std::abs(h) >= plane_band(params, p.z) || !found[k].hull.contains(p)) continue;
+      ratio.push_back(std::abs(h) / std::max(noise_across(p, found[k].plane.n), 1e-6));
+    }
+    if (ratio.size() < kLeast) continue;
+    std::nth_element(ratio.begin(), ratio.begin() + ratio.size() / 2, ratio.end());
+    scale[k] = std::max(1.0, ratio[ratio.size() / 2] / 0.6745);
+  }
+  return scale;
+}
 
 // Whether `sample` lies on `plane`: its median height above it within `gap` (supports
 // lie at least min_support_gap_m apart). False for an empty sample.
@@ -2421,6 +2466,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     const double len = norm(along);
     return len > 0 && fd.hull.contains(p - along * (params.overhang_margin_m / len));
   };
+  const std::vector<double> band_scale = surface_noise_scale(f, strided, found, params);
   constexpr size_t kPrismChunk = 4096;
   const size_t prism_bands = (strided.size() + kPrismChunk - 1) / kPrismChunk;
   std::vector<std::vector<int>> band_seeds(prism_bands);
@@ -2436,7 +2482,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
       for (size_t k = 0; k < ns; ++k) {
         const Found& fd = found[k];
         const double h = dot(fd.plane.n, p) + fd.plane.d;
-        const double band = plane_band(params, p.z);
+        const double band = surface_band(params, p, fd.plane.n, band_scale[k]);
         if (h > params.max_height_m || h < -band) continue;
         // On the surface itself only a furniture support's hull matters (most strided
         // pixels lie there: the hull test is skipped for the others).
@@ -2866,14 +2912,15 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     const PlaneFit& plane = found[static_cast<size_t>(a.support)].plane;
     for (const std::vector<int>& part :
          split_cluster(f, grid, stride, cluster_tolerance(params, z_far), params.segment)) {
-      std::vector<int> full = expand_cluster(f, part, stride, plane, params);
+      std::vector<int> full = expand_cluster(f, part, stride, plane, band_scale[a.support], params);
       // A part short of the size floor may be a dark surface whose grid pixels lost
       // their depth: the returned pixels in their blocks are its too (dropout_join.h).
       if (static_cast<int>(full.size()) < a.min_points) {
         const std::vector<int> more = dropout_block_pixels(f, part, stride, [&](int j, int i) {
           const PointXYZRGB& c = f.points[static_cast<size_t>(i)];
           const double tol = cluster_tolerance(params, c.z);
-          return expands_to(c, f.points[static_cast<size_t>(j)], tol * tol, plane, params);
+          return expands_to(c, f.points[static_cast<size_t>(j)], tol * tol, plane,
+                            band_scale[a.support], params);
         });
         if (!more.empty()) {
           const size_t n = full.size();

@@ -46,6 +46,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"first_plane_normals_up", Kind::flag, nullptr, nullptr, 0, &p.first_plane_normals_up},
       {"plane_distance_m", Kind::positive, &p.plane_distance_m},
       {"plane_noise_factor", Kind::non_negative, &p.plane_noise_factor},
+      {"band_along_ray", Kind::flag, nullptr, nullptr, 0, &p.band_along_ray},
       {"hull_margin_m", Kind::non_negative, &p.hull_margin_m},
       {"floor_margin_m", Kind::non_negative, &p.floor_margin_m},
       {"plane_iterations", Kind::whole, nullptr, &p.plane_iterations, 1},

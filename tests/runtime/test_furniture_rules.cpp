@@ -612,6 +612,9 @@ TEST(SupportRules, WhatStandsAtARaisedSupportsFarEdgeIsPartial) {
   // loses its vote.
   ScanParams without;
   without.edge_room_factor = 0;
+  // The band as before session 27 (band_along_ray): with the band along the rays the
+  // back is no whole prop without this rule either.
+  without.band_along_ray = false;
   const WholeCount on = whole_in_rooms({7030u}, ScanParams{});
   const WholeCount off = whole_in_rooms({7030u}, without);
   EXPECT_EQ(on.furniture, 0);
@@ -777,6 +780,9 @@ TEST(FurnitureRules, AFaceAsWideAsTheSeatItStandsOnIsTheChairsBack) {
   // on a surface with room beside it (panel_span_share).
   ScanParams without;
   without.panel_span_share = 0;
+  // The band as before session 27 (band_along_ray): with the band along the rays 9852's
+  // back is no whole prop without this rule either.
+  without.band_along_ray = false;
   for (std::uint64_t seed : {9824u, 9852u}) {
     const Seen on = scan_seeds({seed}, true, kLabelChair, ScanParams{}, true);
     const Seen off = scan_seeds({seed}, true, kLabelChair, without, true);

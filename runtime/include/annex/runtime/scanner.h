@@ -286,6 +286,15 @@ struct ScanParams {
   // square, 59 cm of it in the band, joined 12 times against the 16 its pixels asked).
   // 0: the pixels' share alone.
   double cut_join_column_share = 0.5;
+  // The band over a support where a pixel is its surface, not an object's, is the depth
+  // noise along the pixel's ray seen across the plane: plane_noise_factor sigma_z
+  // |n . ray|, times the support's own spread in those units (a robust sigma of its
+  // pixels' heights, at least 1: a plane fitted off, or a surface the sensor bends, shows
+  // more), between plane_distance_m and the band above. A table seen at 25 degrees moves
+  // a point 0.42 sigma_z off its plane: 2.4 m away, its objects' lowest 1.2 cm go in the
+  // band, not 2.4 cm. false: plane_noise_factor sigma_z whatever the view (before
+  // session 27).
+  bool band_along_ray = true;
   // Prism: objects between these heights above the plane, inside its hull.
   double min_height_m = 0.012;
   double max_height_m = 0.6;
