@@ -761,8 +761,10 @@ bool continues_above(const Frame& f, const std::vector<int>& grid_pixels, int st
 bool expands_to(const PointXYZRGB& c, const PointXYZRGB& q, double tol2, const PlaneFit& plane,
                 double band_scale, const ScanParams& params) {
   const double h = dot(plane.n, to_vec(q)) + plane.d;
-  if (h < std::max(params.min_height_m, surface_band(params, to_vec(q), plane.n, band_scale)) ||
-      h > params.max_height_m)
+  if (h > params.max_height_m) return false;
+  // surface_band is no wider than plane_band: asked only below that.
+  if (h < plane_band(params, q.z) &&
+      h < std::max(params.min_height_m, surface_band(params, to_vec(q), plane.n, band_scale)))
     return false;
   const double dx = c.x - q.x, dy = c.y - q.y, dz = c.z - q.z;
   return dx * dx + dy * dy + dz * dz <= tol2;
@@ -1190,20 +1192,22 @@ namespace {
 
 // Per support, how far its own surface lies off its plane in units of the noise across
 // it (noise_across): a robust sigma (the median of |h| / noise over 0.6745) of its
-// pixels within plane_band and inside its hull, every kScaleStride-th strided pixel; at
-// least 1. Above 1 where the plane is fitted off (a far table's tilted by degrees) or
-// the sensor bends the surface: the band (surface_band) widens with it.
-std::vector<double> surface_noise_scale(const Frame& f, const std::vector<int>& strided,
-                                        const std::vector<Found>& found, const ScanParams& params) {
-  constexpr size_t kScaleStride = 4, kLeast = 30;
+// regions' pixels (an even sample of at most kMostSamples); at least 1. Above 1 where the
+// plane is fitted off (a far table's tilted by degrees) or the sensor bends the surface:
+// the band (surface_band) widens with it.
+std::vector<double> surface_noise_scale(const Frame& f, const std::vector<Found>& found,
+                                        const ScanParams& params) {
+  constexpr size_t kMostSamples = 1000, kLeast = 30;
   std::vector<double> scale(found.size(), 1.0);
   if (!params.band_along_ray) return scale;
   for (size_t k = 0; k < found.size(); ++k) {
+    const std::vector<int>& members = found[k].regions.members;
+    const size_t step = members.size() / kMostSamples + 1;
     std::vector<double> ratio;
-    for (size_t s = 0; s < strided.size(); s += kScaleStride) {
-      const Vec3 p = to_vec(f.points[static_cast<size_t>(strided[s])]);
+    ratio.reserve(members.size() / step + 1);
+    for (size_t m = 0; m < members.size(); m += step) {
+      const Vec3 p = to_vec(f.points[static_cast<size_t>(members[m])]);
       const double h = dot(found[k].plane.n, p) + found[k].plane.d;
-      if (std::abs(h) >= plane_band(params, p.z) || !found[k].hull.contains(p)) continue;
       ratio.push_back(std::abs(h) / std::max(noise_across(p, found[k].plane.n), 1e-6));
     }
     if (ratio.size() < kLeast) continue;
@@ -2466,7 +2470,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     const double len = norm(along);
     return len > 0 && fd.hull.contains(p - along * (params.overhang_margin_m / len));
   };
-  const std::vector<double> band_scale = surface_noise_scale(f, strided, found, params);
+  const std::vector<double> band_scale = surface_noise_scale(f, found, params);
   constexpr size_t kPrismChunk = 4096;
   const size_t prism_bands = (strided.size() + kPrismChunk - 1) / kPrismChunk;
   std::vector<std::vector<int>> band_seeds(prism_bands);
@@ -2479,11 +2483,20 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
       int owner = -1, reached = -1;
       double owner_h = 1e9, reached_h = 1e9;
       bool surface = false;
+      // The pixel's terms of plane_band and surface_band, once for every support.
+      const double wide = plane_band(params, p.z);
+      const double noise =
+          params.plane_noise_factor * kinect_sigma_z(p.z) / std::max(norm(p), 1e-9);
       for (size_t k = 0; k < ns; ++k) {
         const Found& fd = found[k];
         const double h = dot(fd.plane.n, p) + fd.plane.d;
-        const double band = surface_band(params, p, fd.plane.n, band_scale[k]);
-        if (h > params.max_height_m || h < -band) continue;
+        if (h > params.max_height_m || h <= -wide) continue;
+        // surface_band, no wider than plane_band: asked only within that.
+        const double band = !params.band_along_ray || h >= wide
+                                ? wide
+                                : std::clamp(noise * std::abs(dot(fd.plane.n, p)) * band_scale[k],
+                                             params.plane_distance_m, wide);
+        if (h < -band) continue;
         // On the surface itself only a furniture support's hull matters (most strided
         // pixels lie there: the hull test is skipped for the others).
         if (h < std::max(params.min_height_m, band)) {
