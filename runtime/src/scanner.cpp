@@ -2491,12 +2491,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
         const Found& fd = found[k];
         const double h = dot(fd.plane.n, p) + fd.plane.d;
         if (h > params.max_height_m || h <= -wide) continue;
-        // surface_band, no wider than plane_band: asked only within that.
+        // surface_band, no wider than plane_band: asked only within that. Below the plane
+        // the band stays plane_band: nothing but noise lies there.
         const double band = !params.band_along_ray || h >= wide
                                 ? wide
                                 : std::clamp(noise * std::abs(dot(fd.plane.n, p)) * band_scale[k],
                                              params.plane_distance_m, wide);
-        if (h < -band) continue;
         // On the surface itself only a furniture support's hull matters (most strided
         // pixels lie there: the hull test is skipped for the others).
         if (h < std::max(params.min_height_m, band)) {
