@@ -87,15 +87,20 @@ double noise_across(Vec3 p, Vec3 n) {
   return kinect_sigma_z(p.z) * std::abs(dot(n, p)) / std::max(norm(p), 1e-9);
 }
 
-// The band of heights over a support's plane n where the pixel at p is its surface, not
-// an object's (band_along_ray): plane_noise_factor times the noise across the plane,
-// times `scale`, what the support's own surface shows of it (surface_noise_scale); no
-// wider than plane_band.
-double surface_band(const ScanParams& params, Vec3 p, Vec3 n, double scale) {
-  const double band = plane_band(params, p.z);
-  if (!params.band_along_ray) return band;
-  return std::clamp(params.plane_noise_factor * noise_across(p, n) * scale, params.plane_distance_m,
-                    band);
+// The band of heights over a support's plane n where the pixel p is its surface, not an
+// object's (band_along_ray): plane_noise_factor times the noise across the plane, times
+// `scale`, what the support's own surface shows of it (surface_noise_scale); between
+// plane_distance_m and `wide`, p's plane_band. `noise` is p's plane_noise_factor
+// sigma_z / |p|, which a pass over every support computes once per pixel.
+double surface_band(const ScanParams& params, Vec3 p, Vec3 n, double scale, double wide,
+                    double noise) {
+  if (!params.band_along_ray) return wide;
+  return std::clamp(noise * std::abs(dot(n, p)) * scale, params.plane_distance_m, wide);
+}
+
+// p's plane_noise_factor sigma_z / |p| (surface_band).
+double band_noise(const ScanParams& params, Vec3 p) {
+  return params.plane_noise_factor * kinect_sigma_z(p.z) / std::max(norm(p), 1e-9);
 }
 
 // Cluster tolerance at depth z: the configured one, or wider where depth noise makes
@@ -763,8 +768,10 @@ bool expands_to(const PointXYZRGB& c, const PointXYZRGB& q, double tol2, const P
   const double h = dot(plane.n, to_vec(q)) + plane.d;
   if (h > params.max_height_m) return false;
   // surface_band is no wider than plane_band: asked only below that.
-  if (h < plane_band(params, q.z) &&
-      h < std::max(params.min_height_m, surface_band(params, to_vec(q), plane.n, band_scale)))
+  const double wide = plane_band(params, q.z);
+  if (h < wide &&
+      h < std::max(params.min_height_m, surface_band(params, to_vec(q), plane.n, band_scale, wide,
+                                                     band_noise(params, to_vec(q)))))
     return false;
   const double dx = c.x - q.x, dy = c.y - q.y, dz = c.z - q.z;
   return dx * dx + dy * dy + dz * dz <= tol2;
@@ -2485,18 +2492,15 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
       bool surface = false;
       // The pixel's terms of plane_band and surface_band, once for every support.
       const double wide = plane_band(params, p.z);
-      const double noise =
-          params.plane_noise_factor * kinect_sigma_z(p.z) / std::max(norm(p), 1e-9);
+      const double noise = band_noise(params, p);
       for (size_t k = 0; k < ns; ++k) {
         const Found& fd = found[k];
         const double h = dot(fd.plane.n, p) + fd.plane.d;
         if (h > params.max_height_m || h <= -wide) continue;
         // surface_band, no wider than plane_band: asked only within that. Below the plane
         // the band stays plane_band: nothing but noise lies there.
-        const double band = !params.band_along_ray || h >= wide
-                                ? wide
-                                : std::clamp(noise * std::abs(dot(fd.plane.n, p)) * band_scale[k],
-                                             params.plane_distance_m, wide);
+        const double band =
+            h >= wide ? wide : surface_band(params, p, fd.plane.n, band_scale[k], wide, noise);
         // On the surface itself only a furniture support's hull matters (most strided
         // pixels lie there: the hull test is skipped for the others).
         if (h < std::max(params.min_height_m, band)) {
