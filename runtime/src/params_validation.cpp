@@ -57,6 +57,9 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.positive("plane_distance_m", p.plane_distance_m);
   c.non_negative("plane_noise_factor", p.plane_noise_factor);
   c.at_least("plane_iterations", p.plane_iterations, 1);
+  // A pixel's prism mark holds 1 + a support's index, or past a seen part 1 + the count
+  // + the index, in a byte.
+  c.range("max_planes", p.max_planes, 1, 60);
   c.at_least("min_plane_points", p.min_plane_points, 3);
   c.at_least("pixel_stride", p.pixel_stride, 1);
   c.non_negative("hull_margin_m", p.hull_margin_m);
@@ -76,6 +79,7 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.range("min_view_cos", p.min_view_cos, 0, 1);
   c.non_negative("part_margin_m", p.part_margin_m);
   c.non_negative("overhang_margin_m", p.overhang_margin_m);
+  c.non_negative("seen_part_reach_m", p.seen_part_reach_m);
   c.range("part_share", p.part_share, 0, 1);
   c.range("part_fit_slack", p.part_fit_slack, 0, 1);
   c.range("touching_max_coverage", p.touching_max_coverage, 0, 1);

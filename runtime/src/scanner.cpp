@@ -760,6 +760,39 @@ bool continues_above(const Frame& f, const std::vector<int>& grid_pixels, int st
   return joins >= std::max<size_t>(8, asked);
 }
 
+// Whether a cluster's surface is seen running on below the plane under its foot: under
+// its lowest pixel, in most of its grid columns, a pixel below the plane's band lies
+// within the clustering tolerance of that pixel along the plane, before anything nearer
+// hides the view. A wall behind a board's seen part runs on down past the board's
+// height; a cup standing on the board does not, and the board, nearer, lies under it.
+bool runs_on_below(const Frame& f, const std::vector<int>& grid, int step, const PlaneFit& plane,
+                   const ScanParams& params) {
+  constexpr int kRows = 16;  // grid rows looked down: a band's width down a wall 3 m away
+  std::map<int, int> foot;   // image column -> lowest pixel of the cluster
+  for (int i : grid) {
+    auto [it, fresh] = foot.try_emplace(i % f.width, i);
+    if (!fresh && i > it->second) it->second = i;
+  }
+  int runs = 0;
+  for (const auto& [col, i] : foot) {
+    const Vec3 p = to_vec(f.points[i]);
+    const double tol = cluster_tolerance(params, p.z);
+    for (int r = 1; r <= kRows; ++r) {
+      const size_t j = static_cast<size_t>(i) + static_cast<size_t>(r * step * f.width);
+      if (j >= f.points.size()) break;
+      if (!has_depth(f.points[j])) continue;
+      const Vec3 q = to_vec(f.points[j]);
+      if (q.z < p.z - tol) break;  // something nearer hides what lies below
+      const double h = dot(plane.n, q) + plane.d;
+      if (h >= -plane_band(params, q.z)) continue;
+      const Vec3 v = q - p;
+      runs += norm(v - plane.n * dot(plane.n, v)) < 2 * tol;
+      break;
+    }
+  }
+  return 2 * runs > static_cast<int>(foot.size());
+}
+
 // Whether pixel q (with depth) belongs with the cluster's grid pixel c in its block:
 // above the support's band, below the height band's top, within the clustering
 // tolerance (tol2 its square) of c.
@@ -1191,6 +1224,9 @@ struct Found {
   PlaneFit plane;
   Hull2 hull;
   Hull2 reach;  // the hull grown by overhang_margin_m (empty when 0)
+  // A small support's hull grown by seen_part_reach_m, where its surface may run on
+  // unseen (empty: none; see there).
+  Hull2 around;
   PlaneRegions regions;
   int points = 0;
 };
@@ -1222,6 +1258,46 @@ std::vector<double> surface_noise_scale(const Frame& f, const std::vector<Found>
     scale[k] = std::max(1.0, ratio[ratio.size() / 2] / 0.6745);
   }
   return scale;
+}
+
+// Clusters grown around a small support's seen part (seen_part_reach_m: their pixels are
+// marked 1 + the support count + its index) are kept when they stand on its plane: the
+// lowest point in its band, give or take the clustering tolerance, the surface not running
+// on below it (runs_on_below), its top below the height band's, and not one upright face.
+// Their pixels are then that support's; the others' leave the prism.
+void keep_standing_around(const Frame& f, const std::vector<Found>& found,
+                          std::vector<std::vector<int>>& grids, std::vector<char>& mask, int step,
+                          const ScanParams& params) {
+  const size_t ns = found.size();
+  const auto stands = [&](const std::vector<int>& grid, const PlaneFit& plane) {
+    double low_h = 1e9, low_z = 0;
+    for (int i : grid) {
+      const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
+      const double h = dot(plane.n, p) + plane.d;
+      if (h > params.max_height_m - cluster_tolerance(params, p.z)) return false;
+      if (h < low_h) low_h = h, low_z = p.z;
+    }
+    const double on =
+        std::max(params.min_height_m, plane_band(params, low_z)) + cluster_tolerance(params, low_z);
+    return low_h <= on && !runs_on_below(f, grid, step, plane, params);
+  };
+  std::vector<std::vector<int>> kept;
+  kept.reserve(grids.size());
+  for (std::vector<int>& grid : grids) {
+    const auto m = static_cast<size_t>(mask[static_cast<size_t>(grid.front())]);
+    if (m <= ns) {
+      kept.push_back(std::move(grid));
+      continue;
+    }
+    const size_t k = m - ns - 1;
+    // One upright flat face alone there is the furniture's own panel (a shelf's back
+    // between two boards): a prop seen from above shows its top or its curve.
+    const bool keep =
+        stands(grid, found[k].plane) && !upright_panel(f, grid, found[k].plane.n, params);
+    for (int i : grid) mask[static_cast<size_t>(i)] = keep ? static_cast<char>(k + 1) : 0;
+    if (keep) kept.push_back(std::move(grid));
+  }
+  grids = std::move(kept);
 }
 
 // Whether `sample` lies on `plane`: its median height above it within `gap` (supports
@@ -2390,6 +2466,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     sup.surface.point_count = fd.points;
     sup.area_m2 = hull_area(fd.hull);
     sup.furniture = sup.area_m2 > params.furniture_area_m2;
+    if (params.seen_part_reach_m > 0 && k != lowest && !sup.furniture && fd.hull.pts.size() >= 3)
+      fd.around = grow(fd.hull, params.seen_part_reach_m);
     // The smallest squared distance, then its root: the root is monotonic.
     double nearest2 = 1e18;
     for (int i : fd.regions.members) {
@@ -2480,15 +2558,15 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   const std::vector<double> band_scale = surface_noise_scale(f, found, params);
   constexpr size_t kPrismChunk = 4096;
   const size_t prism_bands = (strided.size() + kPrismChunk - 1) / kPrismChunk;
-  std::vector<std::vector<int>> band_seeds(prism_bands);
+  std::vector<std::vector<int>> band_seeds(prism_bands), around_seeds(prism_bands);
   parallel_for(prism_bands, [&](size_t b) {
     const size_t lo = b * kPrismChunk, hi = std::min(strided.size(), lo + kPrismChunk);
     std::vector<int>& out = band_seeds[b];
     for (size_t s = lo; s < hi; ++s) {
       const int i = strided[s];
       const Vec3 p = to_vec(f.points[i]);
-      int owner = -1, reached = -1;
-      double owner_h = 1e9, reached_h = 1e9;
+      int owner = -1, reached = -1, around = -1;
+      double owner_h = 1e9, reached_h = 1e9, around_h = 1e9;
       bool surface = false;
       // The pixel's terms of plane_band and surface_band, once for every support.
       const double wide = plane_band(params, p.z);
@@ -2510,6 +2588,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
         if (!fd.hull.contains(p)) {
           if (h < reached_h && fd.reach.contains(p) && !beyond_far_edge(fd, p))
             reached_h = h, reached = static_cast<int>(k);
+          else if (h < around_h && fd.around.contains(p))
+            around_h = h, around = static_cast<int>(k);
           continue;
         }
         if (h < owner_h) owner_h = h, owner = static_cast<int>(k);
@@ -2518,7 +2598,13 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
       // Beyond the hull's edge but within overhang_margin_m of it: a part of what stands
       // across the edge, joined only by a cluster grown from inside (never a seed).
       if (owner < 0) {
-        if (reached >= 0) mask[i] = static_cast<char>(reached + 1), beyond[i] = 1;
+        if (reached >= 0) {
+          mask[i] = static_cast<char>(reached + 1), beyond[i] = 1;
+        } else if (around >= 0) {
+          // Around a small support's seen part: marked apart, so it joins no other cluster.
+          mask[i] = static_cast<char>(ns + 1 + static_cast<size_t>(around));
+          around_seeds[b].push_back(i);
+        }
         continue;
       }
       mask[i] = static_cast<char>(owner + 1);
@@ -2526,6 +2612,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     }
   });
   for (size_t b = 0; b < prism_bands; ++b) seeds.insert(seeds.end(), band_seeds[b].begin(), band_seeds[b].end());
+  for (size_t b = 0; b < prism_bands; ++b)
+    seeds.insert(seeds.end(), around_seeds[b].begin(), around_seeds[b].end());
   result.stages.push_back({"prism", ms_since(t0)});
 
   t0 = Clock::now();
@@ -2610,6 +2698,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   // front beside nyu_basement's upper bin, office1's cupboard behind its desk), and
   // keeps its pixels inside the hull.
   std::vector<std::vector<int>> grown_grids = grow_clusters(f, mask, seeds, stride, params);
+  keep_standing_around(f, found, grown_grids, mask, stride, params);
   const auto is_beyond = [&](int i) { return beyond[static_cast<size_t>(i)] != 0; };
   for (std::vector<int>& grid : grown_grids) {
     if (std::none_of(grid.begin(), grid.end(), is_beyond)) continue;

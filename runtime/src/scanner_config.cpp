@@ -69,6 +69,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"part_fit_slack", Kind::unit_share, &p.part_fit_slack},
       {"unseen_hold_no_parts", Kind::flag, nullptr, nullptr, 0, &p.unseen_hold_no_parts},
       {"overhang_margin_m", Kind::non_negative, &p.overhang_margin_m},
+      {"seen_part_reach_m", Kind::non_negative, &p.seen_part_reach_m},
       {"support_from_foot", Kind::flag, nullptr, nullptr, 0, &p.support_from_foot},
       {"touching_max_coverage", Kind::unit_share, &p.touching_max_coverage},
       {"touching_waist_share", Kind::unit_share, &p.touching_waist_share},

@@ -371,6 +371,9 @@ TEST(SupportRules, ATablePartedByWhatStandsOnItIsOneSupport) {
   // one table, and both are found, with their sizes.
   ScanParams without;
   without.join_parted_surfaces = false;
+  // seen_part_reach_m (session 28) finds both around either region's seen part (each a
+  // small support): off on this side too.
+  without.seen_part_reach_m = 0;
   for (const bool joined : {true, false}) {
     const RoomScan r = scan_room(9883u, joined ? ScanParams{} : without);
     const int ball = find_object(r.scene, [](const SyntheticObject& o) {
@@ -515,6 +518,8 @@ TEST(SupportRules, ATableTopSeenLevelIsOneSupportOfItsEdges) {
   // lies below them, at any angle (14 found with it alone, 11 with both: session 26), so
   // it is off on this side.
   without.join_parted_surfaces = false;
+  // seen_part_reach_m (session 28) finds objects around the patches' seen parts: off too.
+  without.seen_part_reach_m = 0;
   const Seen on = scan_seeds({7013u, 8096u}, true, kLabelWall, ScanParams{}, true);
   const Seen off = scan_seeds({7013u, 8096u}, true, kLabelWall, without, true);
   EXPECT_GE(on.found, off.found + 5);

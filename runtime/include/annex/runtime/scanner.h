@@ -270,6 +270,17 @@ struct ScanParams {
   // edge), and start none; not past the far edge (what hangs there is hidden behind the
   // object). Half the widest prop's footprint. 0: off.
   double overhang_margin_m = 0.1;
+  // A small support's seen part (a shelf's board seen at a grazing angle, its top
+  // between what stands on it) ends where the view of it does, not where it does: what
+  // stands on it hides the rest. Band pixels over no support's hull or reach, up to this
+  // far around such a part, form clusters of their own (joined with no other), kept when
+  // the cluster's lowest point lies on the plane and its surface is not seen running on
+  // below the plane beneath that foot (a wall behind the board is; a cup standing on it
+  // is not: the board, nearer, lies under its foot), when it ends below the height band's
+  // top, and when it is not one upright flat face (upright_panel: there, the shelf's back
+  // between two boards). Not on the lowest support or on furniture, whose seen hull is
+  // the surface's own. 0.4: a shelf's depth. 0: off.
+  double seen_part_reach_m = 0.4;
   // A cluster stands on the support its lowest point lies on: when that point lies on a
   // higher support's plane (in its band), within its reach (the hull grown by
   // overhang_margin_m) and not past its far edge, the cluster is that support's, not
