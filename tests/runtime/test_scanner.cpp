@@ -1227,6 +1227,24 @@ TEST(ScanConfig, SupportChoices) {
   expect_error("supports s0\n", 1, 10, "support id such as s2");
 }
 
+TEST(ScanConfig, PlanesAndSeenPartReachAreChecked) {
+  // A pixel's prism mark holds 1 + a support's index, or around a seen part 1 + the count
+  // + the index, in a byte: at most 60 planes.
+  ScanParams many;
+  many.max_planes = 61;
+  Frame f;
+  f.width = 2;
+  f.height = 1;
+  f.points.resize(2);
+  const Result<ScanResult> r = scan_frame(f, many);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("max_planes"), std::string::npos) << r.error().message;
+  const Result<ScanParams> p = parse_scan_config("seen_part_reach_m 0.25\n", "t.conf");
+  ASSERT_TRUE(p.ok()) << p.error().format();
+  EXPECT_EQ(p->seen_part_reach_m, 0.25);
+  EXPECT_FALSE(parse_scan_config("seen_part_reach_m -1\n", "t.conf").ok());
+}
+
 TEST(ScannerWorld, RecordingsWallBandBelowTheTableIsNoFloor) {
   // samples/recordings/tabletop: a table seen from 62 cm above it and the wall behind.
   // A height band 32 cm below the table cuts the wall where depth noise tilts a few
