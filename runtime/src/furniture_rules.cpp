@@ -26,22 +26,28 @@ constexpr int kBelowRows = 32;
 // own depth distortion over the few centimetres runs_below_support looks at.
 constexpr double kFlatSurface = 0.003;
 
-// Image column -> the cluster's topmost (`top`) or lowest grid pixel in it.
-std::map<int, int> end_per_column(const Frame& f, const std::vector<int>& grid, bool top) {
-  std::map<int, int> ends;
+}  // namespace
+
+std::vector<std::pair<int, int>> end_per_column(const Frame& f, const std::vector<int>& grid,
+                                                bool top) {
+  std::vector<std::pair<int, int>> ends;
+  if (grid.empty()) return ends;
+  int lo = f.width, hi = -1;
+  for (int i : grid) lo = std::min(lo, i % f.width), hi = std::max(hi, i % f.width);
+  std::vector<int> end(static_cast<size_t>(hi - lo + 1), -1);  // per column from lo
   for (int i : grid) {
-    auto [it, fresh] = ends.try_emplace(i % f.width, i);
-    if (!fresh && (top ? i < it->second : i > it->second)) it->second = i;
+    int& e = end[static_cast<size_t>(i % f.width - lo)];
+    if (e < 0 || (top ? i < e : i > e)) e = i;
   }
+  for (size_t c = 0; c < end.size(); ++c)
+    if (end[c] >= 0) ends.emplace_back(lo + static_cast<int>(c), end[c]);
   return ends;
 }
-
-}  // namespace
 
 bool top_cut_by_band(const Frame& f, const std::vector<int>& grid, int step, Vec3 n, double d,
                      const ScanParams& params, const ToleranceAt& tolerance) {
   if (params.cut_top_share <= 0) return false;
-  const std::map<int, int> top = end_per_column(f, grid, true);
+  const std::vector<std::pair<int, int>> top = end_per_column(f, grid, true);
   // Too few columns to tell a cut front from noise.
   if (top.size() < 3) return false;
   const int row = step * f.width;
@@ -85,7 +91,7 @@ namespace {
 // camera than that pixel by more than the tolerance, or farther by as much.
 FootView end_view(const Frame& f, const std::vector<int>& grid, int step,
                   const ToleranceAt& tolerance, bool top) {
-  const std::map<int, int> ends = end_per_column(f, grid, top);
+  const std::vector<std::pair<int, int>> ends = end_per_column(f, grid, top);
   FootView v;
   v.columns = static_cast<int>(ends.size());
   const int row = (top ? -step : step) * f.width;
@@ -214,7 +220,7 @@ std::optional<Vec3> upright_panel(const Frame& f, const std::vector<int>& grid, 
 
 bool foot_unseen(const Frame& f, const std::vector<int>& grid, int step,
                  const std::vector<int>& surface_of, int support) {
-  const std::map<int, int> ends = end_per_column(f, grid, false);
+  const std::vector<std::pair<int, int>> ends = end_per_column(f, grid, false);
   if (ends.size() < 3) return false;
   const int row = step * f.width;
   const int count = static_cast<int>(f.points.size());
@@ -238,7 +244,7 @@ bool runs_below_support(const Frame& f, const std::vector<int>& grid, int step, 
   if (params.below_support_sigmas <= 0) return false;
   const Vec3 n = around.normal;
   const double d = around.d;
-  const std::map<int, int> ends = end_per_column(f, grid, false);
+  const std::vector<std::pair<int, int>> ends = end_per_column(f, grid, false);
   if (ends.size() < 3) return false;
   const int row = step * f.width;
   const int count = static_cast<int>(f.points.size());

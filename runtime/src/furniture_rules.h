@@ -8,6 +8,7 @@
 
 #include <functional>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "annex/common/geometry.h"
@@ -18,6 +19,10 @@
 namespace annex {
 
 using ToleranceAt = std::function<double(double z)>;
+
+// (image column, the cluster's topmost (`top`) or lowest grid pixel in it), by column.
+std::vector<std::pair<int, int>> end_per_column(const Frame& f, const std::vector<int>& grid,
+                                                bool top);
 
 // Whether the cluster's top is the height band's top across most of its width: in at
 // least params.cut_top_share of its grid columns whose topmost pixel lies at the band's

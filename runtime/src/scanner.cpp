@@ -768,11 +768,7 @@ bool continues_above(const Frame& f, const std::vector<int>& grid_pixels, int st
 bool runs_on_below(const Frame& f, const std::vector<int>& grid, int step, const PlaneFit& plane,
                    const ScanParams& params) {
   constexpr int kRows = 16;  // grid rows looked down: a band's width down a wall 3 m away
-  std::map<int, int> foot;   // image column -> lowest pixel of the cluster
-  for (int i : grid) {
-    auto [it, fresh] = foot.try_emplace(i % f.width, i);
-    if (!fresh && i > it->second) it->second = i;
-  }
+  const std::vector<std::pair<int, int>> foot = end_per_column(f, grid, false);
   int runs = 0;
   for (const auto& [col, i] : foot) {
     const Vec3 p = to_vec(f.points[i]);
@@ -1654,11 +1650,7 @@ constexpr double kFarEdgeLookAhead = 0.5, kFarEdgeStep = 0.01;
 // whole depth, hidden behind its face.
 bool stands_at_far_edge(const Frame& f, const std::vector<int>& grid, const PlaneFit& plane,
                         const std::vector<const Hull2*>& surface, const ToleranceAt& room) {
-  std::map<int, int> lowest;  // image column -> its lowest pixel
-  for (int i : grid) {
-    auto [it, fresh] = lowest.try_emplace(i % f.width, i);
-    if (!fresh) it->second = std::max(it->second, i);
-  }
+  const std::vector<std::pair<int, int>> lowest = end_per_column(f, grid, false);
   if (lowest.size() < 3) return false;
   const auto on_surface = [&](Vec3 q) {
     return std::any_of(surface.begin(), surface.end(),
@@ -2639,11 +2631,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   constexpr int kEdgeRows = 24;
   auto hidden_under = [&](const std::vector<int>& grid, int k) {
     const PlaneFit& own = found[static_cast<size_t>(k)].plane;
-    std::map<int, int> top;  // grid column -> topmost pixel of the cluster
-    for (int i : grid) {
-      auto [it, fresh] = top.try_emplace(i % f.width, i);
-      if (!fresh && i < it->second) it->second = i;
-    }
+    const std::vector<std::pair<int, int>> top = end_per_column(f, grid, true);
     std::map<int, int> votes;
     for (const auto& [col, i] : top) {
       const double z = f.points[i].z;
