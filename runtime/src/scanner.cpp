@@ -132,6 +132,18 @@ struct PlaneFit {
   bool ok = false;
 };
 
+// How high above a plane a cluster's lowest point may lie and still stand on it: an
+// object's lowest pixels lie in the plane's band, which is no cluster's, give or take
+// the clustering tolerance.
+double foot_reach(const ScanParams& params, double z) {
+  return std::max(params.min_height_m, plane_band(params, z)) + cluster_tolerance(params, z);
+}
+
+// Whether p, over `plane`, lies within the clustering tolerance of the height band's top.
+bool at_band_top(const ScanParams& params, const PlaneFit& plane, Vec3 p) {
+  return dot(plane.n, p) + plane.d > params.max_height_m - cluster_tolerance(params, p.z);
+}
+
 // Least-squares plane through points (smallest eigenvector of the covariance).
 PlaneFit fit_plane(const std::vector<Vec3>& pts) {
   if (pts.size() < 3) return {};
@@ -1269,13 +1281,11 @@ void keep_standing_around(const Frame& f, const std::vector<Found>& found,
     double low_h = 1e9, low_z = 0;
     for (int i : grid) {
       const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
+      if (at_band_top(params, plane, p)) return false;
       const double h = dot(plane.n, p) + plane.d;
-      if (h > params.max_height_m - cluster_tolerance(params, p.z)) return false;
       if (h < low_h) low_h = h, low_z = p.z;
     }
-    const double on =
-        std::max(params.min_height_m, plane_band(params, low_z)) + cluster_tolerance(params, low_z);
-    return low_h <= on && !runs_on_below(f, grid, step, plane, params);
+    return low_h <= foot_reach(params, low_z) && !runs_on_below(f, grid, step, plane, params);
   };
   std::vector<std::vector<int>> kept;
   kept.reserve(grids.size());
@@ -2692,8 +2702,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     if (std::none_of(grid.begin(), grid.end(), is_beyond)) continue;
     const PlaneFit& plane = found[static_cast<size_t>(mask[grid.front()] - 1)].plane;
     const bool tall = std::any_of(grid.begin(), grid.end(), [&](int i) {
-      const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
-      return dot(plane.n, p) + plane.d > params.max_height_m - cluster_tolerance(params, p.z);
+      return at_band_top(params, plane, to_vec(f.points[static_cast<size_t>(i)]));
     });
     if (tall) grid.erase(std::remove_if(grid.begin(), grid.end(), is_beyond), grid.end());
   }
@@ -2749,7 +2758,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     const PlaneFit& own = found[static_cast<size_t>(ft.support)].plane;
     // An object's lowest pixels lie in its support's band, which is no cluster's.
     const double band = plane_band(params, ft.low.z);
-    const double on = std::max(params.min_height_m, band) + tolerance(ft.low.z);
+    const double on = foot_reach(params, ft.low.z);
     int foot = -1;
     double best = 1e9;
     for (size_t o = 0; o < ns; ++o) {
