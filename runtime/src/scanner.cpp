@@ -1805,6 +1805,29 @@ WeightedPlane weighted_plane(const std::vector<Vec3>& pts, Vec3 toward) {
 constexpr int kTrimRounds = 4;
 constexpr double kTrimSigmas = 2.5;
 
+// weighted_plane on `in`, then trimmed and fitted again `rounds` times, the sigma
+// taken from the median absolute residual (in units of each point's sigma_z): the
+// outliers to one side of a band (objects' feet, a support's front edge) lean a least-
+// squares fit toward them; the median does not.
+WeightedPlane trimmed_plane(const std::vector<Vec3>& in, Vec3 toward, int rounds = kTrimRounds) {
+  WeightedPlane own = weighted_plane(in, toward);
+  std::vector<double> residual(in.size()), sorted;
+  std::vector<Vec3> kept;
+  for (int round = 0; round < rounds && own.fit.ok; ++round) {
+    for (size_t k = 0; k < in.size(); ++k)
+      residual[k] = std::abs(dot(own.fit.n, in[k]) + own.fit.d) / kinect_sigma_z(in[k].z);
+    sorted = residual;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    // A normal distribution's sigma from its median absolute residual.
+    const double robust_sigma = 1.4826 * sorted[sorted.size() / 2];
+    kept.clear();
+    for (size_t k = 0; k < in.size(); ++k)
+      if (residual[k] < kTrimSigmas * robust_sigma) kept.push_back(in[k]);
+    own = weighted_plane(kept, toward);
+  }
+  return own;
+}
+
 // Which of `members` (strided pixels) lie on a surface facing `n`'s way: the normal of
 // the members within kFaceWindow grid steps around each (at least kFaceLeast of them)
 // within `max_deg` of `n` (0: all of them). A vertical face in the band (a table's apron seen from
@@ -1873,21 +1896,7 @@ std::optional<PlaneFit> region_plane(const Frame& f, const std::vector<int>& mem
     const Vec3 q = to_vec(f.points[static_cast<size_t>(members[k])]);
     if (facing[k] && std::abs(dot(joint.n, q) + joint.d) < plane_band(params, q.z)) in.push_back(q);
   }
-  WeightedPlane own = weighted_plane(in, joint.n);
-  std::vector<double> residual(in.size()), sorted;
-  std::vector<Vec3> kept;
-  for (int round = 0; round < kTrimRounds && own.fit.ok; ++round) {
-    for (size_t k = 0; k < in.size(); ++k)
-      residual[k] = std::abs(dot(own.fit.n, in[k]) + own.fit.d) / kinect_sigma_z(in[k].z);
-    sorted = residual;
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    // A normal distribution's sigma from its median absolute residual.
-    const double robust_sigma = 1.4826 * sorted[sorted.size() / 2];
-    kept.clear();
-    for (size_t k = 0; k < in.size(); ++k)
-      if (residual[k] < kTrimSigmas * robust_sigma) kept.push_back(in[k]);
-    own = weighted_plane(kept, joint.n);
-  }
+  const WeightedPlane own = trimmed_plane(in, joint.n);
   if (!own.fit.ok) return std::nullopt;
   const double z = params.support_fit_sigmas;
   const bool apart = own.joint_chi2(joint) > z * z;
@@ -1926,6 +1935,40 @@ std::vector<int> members_on(const Frame& f, const PlaneRegions& region, const Pl
 }
 
 }  // namespace
+
+// Rounds of first_plane_noise_fit at most, and the turn of the normal under which the
+// fit has settled: far from its start a round moves it a few degrees, settled far
+// less than the noise leaves unsure. Each round fits every kNoiseFitSample-th pool
+// point: a support's thousands are plenty for three parameters, and the fit is asked
+// of every frame.
+constexpr int kNoiseFitRounds = 10;
+constexpr double kNoiseFitSettled_rad = 1e-4;
+constexpr size_t kNoiseFitSample = 8;
+
+// The first plane fitted again on the sensor's noise model (first_plane_noise_fit): the
+// pool points within each one's noise band of the plane (`band`, plane_band at its
+// depth), fitted by trimmed_plane, round after round from the new plane until it
+// settles. RANSAC's plane comes from three points and its fixed band, which on a floor
+// 3 m away is under one sigma_z: the band keeps the strip the triple's plane cuts from
+// the floor, and least squares on a strip that narrow returns the triple's own tilt (a
+// camera tilted 49 degrees over plain 6102's floor: every support 9 degrees off). Each
+// round's band, as wide as the noise, takes in more of the surface the plane lies on.
+// A round whose plane leaves `max_angle_deg` of `up` ends the rounds before it.
+PlaneFit noise_fit_plane(const std::vector<Vec3>& pool, const std::vector<double>& band,
+                         PlaneFit plane, Vec3 up, double max_angle_deg) {
+  std::vector<Vec3> in;
+  for (int round = 0; round < kNoiseFitRounds; ++round) {
+    in.clear();
+    for (size_t k = 0; k < pool.size(); k += kNoiseFitSample)
+      if (std::abs(dot(plane.n, pool[k]) + plane.d) < band[k]) in.push_back(pool[k]);
+    const WeightedPlane own = trimmed_plane(in, up, 1);
+    if (!own.fit.ok || dot(own.fit.n, up) < cos_degrees(max_angle_deg) || own.fit.d <= 0) break;
+    const double turn = std::acos(std::min(1.0, dot(own.fit.n, plane.n)));
+    plane = own.fit;
+    if (turn < kNoiseFitSettled_rad) break;
+  }
+  return plane;
+}
 
 // Every support: planes extracted one after another, each one's inliers leaving the
 // search. A plane counts when its kept regions hold min_plane_points. Kept out of line
@@ -2017,11 +2060,19 @@ std::vector<int> members_on(const Frame& f, const PlaneRegions& region, const Pl
     int peak = 0;
     double peak_height = 0;
     std::vector<size_t> at_peak;  // the pool's up-facing points in the peak's band
-    const PlaneSearch ps =
-        planes.empty() ? find_plane(f, params, up, params.max_plane_angle_deg, pool, pool_pts, free, false,
-                                  rng)
-                       : find_parallel_plane(params, planes.front().first, pool_pts, pool_h, pool_up,
-                                             0.5 * params.max_support_tilt_deg, peak, peak_height);
+    PlaneSearch ps = planes.empty() ? find_plane(f, params, up, params.max_plane_angle_deg, pool,
+                                                 pool_pts, free, false, rng)
+                                    : find_parallel_plane(
+                                          params, planes.front().first, pool_pts, pool_h, pool_up,
+                                          0.5 * params.max_support_tilt_deg, peak, peak_height);
+    // The first plane fitted on the noise model replaces RANSAC's when it turns it by
+    // noise_fit_min_turn_deg or more (scanner.h says why).
+    if (planes.empty() && ps.plane.ok && params.first_plane_noise_fit) {
+      const PlaneFit fitted =
+          noise_fit_plane(pool_pts, pool_band, ps.plane, up, params.max_plane_angle_deg);
+      if (dot(fitted.n, ps.plane.n) <= cos_degrees(params.noise_fit_min_turn_deg))
+        ps.plane = fitted;
+    }
     // A band with fewer up-facing points than a support's smallest region holds no
     // support. Seen at a grazing angle (a level camera 26 cm above a table 2.5 m away)
     // a fifth of a table's pixels still face up: dropout takes most of the rest.

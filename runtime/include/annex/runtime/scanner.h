@@ -44,6 +44,22 @@ struct ScanParams {
   // slant, fits the band's own tilt, but its pixels' normals are the wall's (a level
   // camera facing a wall 2.5 m away). Asked with first_plane_fits_up only.
   bool first_plane_normals_up = true;
+  // The first plane is fitted again on the sensor's noise model: least squares weighted
+  // by each point's axial noise, on the points within the noise-scaled band (below),
+  // trimmed, round after round until it settles. RANSAC's fixed band is under one
+  // sigma_z on a floor 3 m away, and least squares on the strip it cuts returns the
+  // triple's own tilt. Off by default: on, the supports beyond 2.5 m are right far more
+  // often, but held-out 5035's chair leg, cut at its top by a seat's band, is then a
+  // prop reported whole (docs/perception.md). false: RANSAC's plane refined in the fixed
+  // band.
+  bool first_plane_noise_fit = false;
+  // ... which replaces RANSAC's plane when it turns it by at least this. Less is within
+  // what the sensor's own depth distortion makes of a flat floor, where the noise
+  // model's weights (the near part rules) and equal ones fit planes that far apart: the
+  // real milk_cartoon floor, its far part bent 0.9 cm up, 0.17 degrees; nyu_basement's,
+  // bent 2.6 cm over 2 to 4.5 m, 0.8. More is RANSAC's band stuck on its triple's tilt
+  // (plain 6102: 9 degrees; held-out 5035: 2, its floor 7 cm off at the table).
+  double noise_fit_min_turn_deg = 1.0;
   // Plane inlier band: this width, or plane_noise_factor times the Kinect's axial
   // noise at the point's depth where that is wider (far floor). Points within the
   // band are never object points.
