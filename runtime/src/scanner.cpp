@@ -2696,6 +2696,11 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     std::map<int, int> votes;
     for (const auto& [col, i] : top) {
       const double z = f.points[i].z;
+      // How much farther a pixel above may lie and still be as near as the top
+      // (top_look_noise_sigmas).
+      const double near_tol =
+          std::max(cluster_tolerance(params, z),
+                   params.top_look_noise_sigmas * std::sqrt(2.0) * kinect_sigma_z(z));
       // The first pixel of the support's front edge above the cluster, once seen: the
       // look-up spans six grid rows, or the edge's thickness (support_edge_m) where it
       // covers more rows (a table's edge 60 cm from the camera spans ten).
@@ -2718,12 +2723,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
         if (o < 0 || o == k) {
           // The support's front edge (its thickness) is no support pixel: look on
           // past pixels as near as the support would be, stop at anything behind.
-          if (f.points[j].z > z + cluster_tolerance(params, z)) break;
+          if (f.points[j].z > z + near_tol) break;
           if (!edge) edge = to_vec(f.points[j]);
           continue;
         }
         const PlaneFit& sup = found[static_cast<size_t>(o)].plane;
-        if (sup.d < own.d && f.points[j].z < z + cluster_tolerance(params, z)) ++votes[o];
+        if (sup.d < own.d && f.points[j].z < z + near_tol) ++votes[o];
         break;
       }
     }

@@ -96,6 +96,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"under_width_share", Kind::unit_share, &p.under_width_share},
       {"legs_on_lowest_only", Kind::flag, nullptr, nullptr, 0, &p.legs_on_lowest_only},
       {"leg_top_reach_m", Kind::non_negative, &p.leg_top_reach_m},
+      {"top_look_noise_sigmas", Kind::non_negative, &p.top_look_noise_sigmas},
       {"furniture_min_height_m", Kind::non_negative, &p.furniture_min_height_m},
       {"on_top_noise_factor", Kind::non_negative, &p.on_top_noise_factor},
       {"furniture_min_width_m", Kind::non_negative, &p.furniture_min_width_m},

@@ -189,6 +189,10 @@ TEST(FurnitureRules, ALegSeenEndingJustUnderTheTableIsStillALeg) {
   // width of the table, where a leg meets the top or its apron, and stays a leg.
   ScanParams any_gap;
   any_gap.leg_top_reach_m = 0.01;
+  // The look-up over the top within the noise and the first plane fitted on the noise
+  // model (session 29) flag it partial by another way: off on this side.
+  any_gap.top_look_noise_sigmas = 0;
+  any_gap.first_plane_noise_fit = false;
   EXPECT_EQ(scan_seeds({9771u}, true, kLabelLeg, ScanParams{}, true).whole, 0);
   EXPECT_EQ(scan_seeds({9771u}, true, kLabelLeg, any_gap, true).whole, 1);
 }
@@ -260,6 +264,10 @@ TEST(FurnitureRules, WhatTheViewPassesUnderHighUpIsPartial) {
   // flagged partial with it but still shows).
   ScanParams without;
   without.partial_when_seen_under = false;
+  // The look-up over the top within the noise and the first plane fitted on the noise
+  // model (session 29) flag a board partial by another way: off on this side.
+  without.top_look_noise_sigmas = 0;
+  without.first_plane_noise_fit = false;
   const std::vector<std::uint64_t> boards{7003u, 7050u};
   const Seen on = scan_seeds(boards, true, kLabelShelf, ScanParams{}, true);
   const Seen off = scan_seeds(boards, true, kLabelShelf, without, true);
@@ -374,6 +382,9 @@ TEST(SupportRules, ATablePartedByWhatStandsOnItIsOneSupport) {
   // seen_part_reach_m (session 28) finds both around either region's seen part (each a
   // small support): off on this side too.
   without.seen_part_reach_m = 0;
+  // The first plane fitted on the noise model (session 29) levels this case too: off on
+  // this side.
+  without.first_plane_noise_fit = false;
   for (const bool joined : {true, false}) {
     const RoomScan r = scan_room(9883u, joined ? ScanParams{} : without);
     const int ball = find_object(r.scene, [](const SyntheticObject& o) {
@@ -536,6 +547,8 @@ TEST(SupportRules, APieceOfTheSupportsOwnSurfaceIsNoProp) {
   // on its own pixels (support_fit_sigmas, session 18) takes one of the two strips too.
   ScanParams with;
   with.support_fit_sigmas = 0;
+  // ... and RANSAC's plane as it was before session 29 (first_plane_noise_fit levels them).
+  with.first_plane_noise_fit = false;
   ScanParams without = with;
   without.support_slab_check = false;
   const std::vector<std::uint64_t> seeds{8097u, 8104u};
@@ -564,6 +577,10 @@ TEST(SupportRules, AFarFloorsSlabWithinItsBandIsNoProp) {
   const Seen on = floor_pieces(ScanParams{});
   ScanParams without;
   without.support_slab_check = false;
+  // The first plane fitted on the noise model and the look-up over a top within the
+  // noise (session 29) take this slab too: off on this side.
+  without.first_plane_noise_fit = false;
+  without.top_look_noise_sigmas = 0;
   const Seen off = floor_pieces(without);
   EXPECT_LE(on.whole, 1);
   EXPECT_GE(off.whole, on.whole + 1);
@@ -707,6 +724,9 @@ TEST(SupportRules, AnApronInTheBandDoesNotTiltTheTable) {
   // camera) the own fit is the table's.
   ScanParams without;
   without.support_fit_facing_deg = 0;
+  // The first plane fitted on the noise model (session 29) levels this case too: off on
+  // this side.
+  without.first_plane_noise_fit = false;
   expect_fit_rule_levels_the_table({3038u}, false, without, 0.3, 1.2);
 }
 
@@ -834,6 +854,9 @@ TEST(FurnitureRules, APostSlantedInTheImageIsCutByTheBand) {
   // Counted over the columns whose topmost pixel lies at the band's top, it is cut.
   ScanParams without;
   without.cut_top_share = 0;
+  // The first plane fitted on the noise model (session 29) levels this case too: off on
+  // this side.
+  without.first_plane_noise_fit = false;
   expect_post_cut(8029u, without);
 }
 

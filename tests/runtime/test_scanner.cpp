@@ -1117,8 +1117,8 @@ TEST(ScannerFar, AFarFloorsPlaneIsFittedOnTheSensorsNoiseModel) {
   // least squares on the strip it cut from the floor kept the triple's tilt: every
   // support 9 degrees off, the two bowls a cylinder and a torus, the bottle a box.
   // Fitted again in the noise-scaled band, weighted by the noise model, until it
-  // settles (first_plane_noise_fit, off by default), every support lies within a degree
-  // of up and the three are a frustum, a frustum and a cylinder.
+  // settles (first_plane_noise_fit), every support lies within a degree of up and the
+  // three are a frustum, a frustum and a cylinder.
   const Result<SyntheticScene> scene = generate_scene(world_scene_params(6102u));
   ASSERT_TRUE(scene.ok());
   const SyntheticFrame f = render_scene(*scene);
@@ -1130,9 +1130,7 @@ TEST(ScannerFar, AFarFloorsPlaneIsFittedOnTheSensorsNoiseModel) {
           std::max(worst, std::acos(std::min(1.0, dot(sp.plane.normal, up))) * 180 / 3.14159265);
     return worst;
   };
-  ScanParams noise_fit;
-  noise_fit.first_plane_noise_fit = true;
-  const Result<ScanResult> scan = scan_frame(f.frame, noise_fit);
+  const Result<ScanResult> scan = scan_frame(f.frame);
   ASSERT_TRUE(scan.ok()) << scan.error().format();
   EXPECT_LT(worst_tilt_deg(*scan), 1.0);
   std::map<int, ShapeKind> kind_of;
@@ -1150,8 +1148,10 @@ TEST(ScannerFar, AFarFloorsPlaneIsFittedOnTheSensorsNoiseModel) {
     EXPECT_EQ(kind_of[static_cast<int>(t)], want) << "truth " << t << " is a " << shape_name(want);
   }
   EXPECT_EQ(compared, 3);
-  // The case: in the fixed band alone (the default) the planes are 9 degrees off.
-  const Result<ScanResult> old = scan_frame(f.frame);
+  // The case: in the fixed band alone the planes are 9 degrees off.
+  ScanParams before;
+  before.first_plane_noise_fit = false;
+  const Result<ScanResult> old = scan_frame(f.frame, before);
   ASSERT_TRUE(old.ok()) << old.error().format();
   EXPECT_GT(worst_tilt_deg(*old), 5.0);
 }

