@@ -55,7 +55,7 @@ struct ScanParams {
   // model's weights (the near part rules) and equal ones fit planes that far apart: the
   // real milk_cartoon floor, its far part bent 0.9 cm up, 0.17 degrees; nyu_basement's,
   // bent 2.6 cm over 2 to 4.5 m, 0.8. More is RANSAC's band stuck on its triple's tilt
-  // (plain 6102: 9 degrees; held-out 5035: 2, its floor 7 cm off at the table).
+  // (plain 6102: 9 degrees; held-out 5035: 2, its floor 8 cm off at the table).
   double noise_fit_min_turn_deg = 1.0;
   // Plane inlier band: this width, or plane_noise_factor times the Kinect's axial
   // noise at the point's depth where that is wider (far floor). Points within the
