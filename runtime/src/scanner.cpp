@@ -430,49 +430,94 @@ struct GridCell {
 // Grid steps between a pixel and the neighbours its surface normal is taken from.
 constexpr int kSurfaceNormalSteps = 4;
 
-// The neighbours a pixel's surface normal is taken from, along the row and along the
-// column: the pixel `reach` on, or the one as far back where that one has no depth; -1
-// where neither has. A NaN depth fails `z > 0`.
-inline std::pair<int, int> surface_neighbours(const PointXYZRGB* pts, int i, int x, int y,
-                                              int reach, int w, int h) {
-  const int right = x + reach < w && pts[i + reach].z > 0 ? i + reach
-                    : x >= reach && pts[i - reach].z > 0  ? i - reach
-                                                          : -1;
-  const int down = y + reach < h && pts[i + reach * w].z > 0 ? i + reach * w
-                   : y >= reach && pts[i - reach * w].z > 0  ? i - reach * w
-                                                             : -1;
-  return {right, down};
+// A frame's pixels with the reach their surface normals are taken over: `reach` pixels
+// on along the row and the column, and how far a neighbour may lie from the pixel on
+// one surface: as far as a surface seen at `max_incidence_deg` spans over the pixels
+// between them (ScanParams::surface_max_incidence_deg).
+struct SurfaceGrid {
+  const PointXYZRGB* pts;
+  int w, h, reach;
+  int least_reach;  // reach / 4; reach itself where any neighbour counts (90 degrees)
+  float spread;     // per pixel apart and metre of depth: 1 / (focal cos(max_incidence_deg))
+  // Three sigma of the difference of two returns' depths (sqrt(2) sigma_z).
+  static constexpr float kTwoReturnsSigmas = 4.24f;
+
+  SurfaceGrid(const Frame& f, int reach_px, double max_incidence_deg)
+      : pts(f.points.data()),
+        w(f.width),
+        h(f.height),
+        reach(reach_px),
+        least_reach(max_incidence_deg >= 90 ? reach_px : std::max(1, reach_px / 4)),
+        spread(static_cast<float>(
+            1 / (focal_px(f) * std::max(1e-9, cos_degrees(max_incidence_deg))))) {}
+
+  // Whether pixel j has depth and lies on pixel i's surface: within the spread an
+  // oblique surface gives, plus three sigma of two returns' depth noise. Past that lies a
+  // depth edge: a table's front face and the floor a metre behind it span a normal
+  // facing up, and their heights gathered as a band below the table's top (fresh rooms
+  // 9559). A NaN depth fails `z > 0`.
+  bool on_surface(int i, int j, int apart) const {
+    const PointXYZRGB &a = pts[i], &b = pts[j];
+    if (!(b.z > 0)) return false;
+    const float dx = b.x - a.x, dy = b.y - a.y, dz = b.z - a.z;
+    const float most = a.z * spread * static_cast<float>(apart) +
+                       kTwoReturnsSigmas * static_cast<float>(kinect_sigma_z(a.z));
+    return dx * dx + dy * dy + dz * dz <= most * most;
+  }
+
+  // The neighbour pixel i's (at `at` along a row or column of `size` pixels, one pixel
+  // `step` apart in the frame) surface normal is taken from: the pixel `reach` on, or the
+  // one as far back where that one is not on its surface, else the same at half the
+  // reach, down to a quarter (a table seen at a grazing angle 2.5 m away is some eight
+  // pixels tall: no pixel of it has both neighbours a full reach away on it); -1 where
+  // none is.
+  int neighbour(int i, int at, int size, int step) const {
+    for (int r = reach; r >= least_reach; r /= 2) {
+      if (at + r < size && on_surface(i, i + r * step, r)) return i + r * step;
+      if (at >= r && on_surface(i, i - r * step, r)) return i - r * step;
+    }
+    return -1;
+  }
+
+  // The neighbours pixel i's (at x, y) surface normal is taken from, along the row and
+  // along the column (neighbour).
+  std::pair<int, int> neighbours(int i, int x, int y) const {
+    return {neighbour(i, x, w, 1), neighbour(i, y, h, w)};
+  }
+
+  // Whether pixel i (at x, y) lies on a surface facing up rather than sideways: the
+  // normal through its neighbours within 45 degrees of `up` (ux, uy, uz), nearer to
+  // horizontal than to vertical.
+  bool faces_up(int i, int x, int y, float ux, float uy, float uz) const {
+    const PointXYZRGB& c = pts[i];
+    const auto [right, down] = neighbours(i, x, y);
+    if (right < 0 || down < 0) return false;
+    const float ax = pts[right].x - c.x, ay = pts[right].y - c.y, az = pts[right].z - c.z;
+    const float bx = pts[down].x - c.x, by = pts[down].y - c.y, bz = pts[down].z - c.z;
+    const float nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+    const float along = nx * ux + ny * uy + nz * uz, len2 = nx * nx + ny * ny + nz * nz;
+    return len2 > 0 && 2 * along * along >= len2;  // cos^2 >= cos^2(45 degrees)
+  }
+};
+
+// The frame's pixels with their normals taken over four grid steps. Depth noise tilts
+// a far floor's normals by some 30 degrees at 3.5 m (four grid steps span 5 cm there),
+// not a wall's by 45.
+SurfaceGrid surface_grid(const Frame& f, const ScanParams& params) {
+  return {f, kSurfaceNormalSteps * std::max(1, params.pixel_stride),
+          params.surface_max_incidence_deg};
 }
 
-// Whether pixel i (at x, y) lies on a surface facing up rather than sideways: the
-// normal through its grid neighbours `reach` pixels on along the row and the column
-// within 45 degrees of `up` (ux, uy, uz), nearer to horizontal than to vertical.
-inline bool pixel_faces_up(const PointXYZRGB* pts, int i, int x, int y, int reach, int w, int h,
-                           float ux, float uy, float uz) {
-  const PointXYZRGB& c = pts[i];
-  const auto [right, down] = surface_neighbours(pts, i, x, y, reach, w, h);
-  if (right < 0 || down < 0) return false;
-  const float ax = pts[right].x - c.x, ay = pts[right].y - c.y, az = pts[right].z - c.z;
-  const float bx = pts[down].x - c.x, by = pts[down].y - c.y, bz = pts[down].z - c.z;
-  const float nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
-  const float along = nx * ux + ny * uy + nz * uz, len2 = nx * nx + ny * ny + nz * nz;
-  return len2 > 0 && 2 * along * along >= len2;  // cos^2 >= cos^2(45 degrees)
-}
-
-// Which of `pixels` lie on a surface facing up (pixel_faces_up), the normal through
-// their grid neighbours four grid steps on. Depth noise tilts a far floor's normals by
-// some 30 degrees at 3.5 m (four grid steps span 5 cm there), not a wall's by 45.
-std::vector<char> facing_up(const Frame& f, const std::vector<int>& pixels,
+// Which of `pixels` lie on a surface facing up (SurfaceGrid::faces_up); `cells` are their
+// cells on the grid of `stride`.
+std::vector<char> facing_up(const SurfaceGrid& grid, const std::vector<int>& pixels,
                             const std::vector<GridCell>& cells, int stride, Vec3 up) {
-  const int reach = kSurfaceNormalSteps * stride, w = f.width, h = f.height;
   const float ux = static_cast<float>(up.x), uy = static_cast<float>(up.y), uz = static_cast<float>(up.z);
   std::vector<char> out(pixels.size(), 0);
-  const PointXYZRGB* pts = f.points.data();
   // A NaN depth fails `z > 0`; a pixel with depth has finite coordinates here (the
   // pool holds valid pixels, and a NaN neighbour coordinate only makes the test fail).
   for (size_t k = 0; k < pixels.size(); ++k)
-    out[k] = pixel_faces_up(pts, pixels[k], cells[k].x * stride, cells[k].y * stride, reach, w, h,
-                            ux, uy, uz);
+    out[k] = grid.faces_up(pixels[k], cells[k].x * stride, cells[k].y * stride, ux, uy, uz);
   return out;
 }
 
@@ -1453,17 +1498,18 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
 // corner); a board above the next section's meets it at a step of its height, and the
 // step's face, which joins the two heights, faces sideways. nullopt where they do not
 // meet.
-std::optional<bool> meets_without_step(const Frame& f, const std::vector<int>& members,
+std::optional<bool> meets_without_step(const Frame& f, const SurfaceGrid& grid,
+                                       const std::vector<int>& members,
                                        const std::vector<char>& on_kept, const PlaneFit& plane,
                                        int stride, double sigmas) {
-  const int w = f.width, h = f.height, reach = kSurfaceNormalSteps * stride;
+  const int w = f.width, h = f.height;
   const float ux = static_cast<float>(plane.n.x), uy = static_cast<float>(plane.n.y),
               uz = static_cast<float>(plane.n.z);
   const PointXYZRGB* pts = f.points.data();
   std::vector<double> steps;  // in sigmas
   for (int i : members) {
     const int x = i % w, y = i / w;
-    if (!pixel_faces_up(pts, i, x, y, reach, w, h, ux, uy, uz)) continue;
+    if (!grid.faces_up(i, x, y, ux, uy, uz)) continue;
     const Vec3 p = to_vec(pts[i]);
     for (int k = 1; k <= 2; ++k)
       for (const auto& [dx, dy] :
@@ -1471,9 +1517,7 @@ std::optional<bool> meets_without_step(const Frame& f, const std::vector<int>& m
         const int nx = x + dx * stride, ny = y + dy * stride;
         if (nx < 0 || nx >= w || ny < 0 || ny >= h) continue;
         const int j = ny * w + nx;
-        if (!on_kept[static_cast<size_t>(j)] ||
-            !pixel_faces_up(pts, j, nx, ny, reach, w, h, ux, uy, uz))
-          continue;
+        if (!on_kept[static_cast<size_t>(j)] || !grid.faces_up(j, nx, ny, ux, uy, uz)) continue;
         const Vec3 q = to_vec(pts[j]);
         steps.push_back(std::abs(dot(plane.n, p - q)) / kinect_sigma_z(0.5 * (p.z + q.z)));
       }
@@ -1485,15 +1529,14 @@ std::optional<bool> meets_without_step(const Frame& f, const std::vector<int>& m
 }
 
 // The mean of the surface's own normals at `pixels` (unit, each turned toward the
-// camera), from the neighbours `reach` pixels on along the row and the column as
-// facing_up reads them; zero when none has both neighbours. Each normal follows the
+// camera), through the neighbours facing_up reads (SurfaceGrid::neighbours); zero when
+// none has both neighbours. Each normal follows the
 // surface the pixel lies on, whatever plane selected it.
-Vec3 mean_surface_normal(const Frame& f, const std::vector<int>& pixels, int reach) {
+Vec3 mean_surface_normal(const Frame& f, const SurfaceGrid& grid, const std::vector<int>& pixels) {
   const PointXYZRGB* pts = f.points.data();
   Vec3 sum{0, 0, 0};
   for (int i : pixels) {
-    const auto [right, down] =
-        surface_neighbours(pts, i, i % f.width, i / f.width, reach, f.width, f.height);
+    const auto [right, down] = grid.neighbours(i, i % f.width, i / f.width);
     if (right < 0 || down < 0) continue;
     const Vec3 p = to_vec(pts[i]);
     const Vec3 n = cross(to_vec(pts[right]) - p, to_vec(pts[down]) - p);
@@ -1532,8 +1575,7 @@ bool slices_steep_surface(const Frame& f, const std::vector<int>& inliers, const
   const PlaneFit fit = fit_plane(pts);
   if (fit.ok && std::abs(dot(fit.n, up)) < cos_cone) return true;
   if (!params.first_plane_normals_up) return false;
-  const Vec3 m =
-      mean_surface_normal(f, sample, kSurfaceNormalSteps * std::max(1, params.pixel_stride));
+  const Vec3 m = mean_surface_normal(f, surface_grid(f, params), sample);
   const double len = norm(m);
   return len > 0 && dot(m, up) < cos_cone * len;
 }
@@ -2163,7 +2205,7 @@ PlaneFit noise_fit_plane(const std::vector<Vec3>& pool, const std::vector<double
       pool_pts.resize(kept);
       if (up_ready) pool_up.resize(kept), pool_h.resize(kept);
       if (first_plane) {
-        first_up = facing_up(f, pool, pool_cells, stride, ps.plane.n);
+        first_up = facing_up(surface_grid(f, params), pool, pool_cells, stride, ps.plane.n);
         first_h.resize(pool.size());
         for (size_t k = 0; k < pool.size(); ++k) first_h[k] = dot(ps.plane.n, pool_pts[k]) + ps.plane.d;
       }
@@ -2240,8 +2282,8 @@ PlaneFit noise_fit_plane(const std::vector<Vec3>& pool, const std::vector<double
             for (int i : k.members) on_kept[static_cast<size_t>(i)] = 1;
           on_kept_plane = o;
         }
-        return meets_without_step(f, r.members, on_kept, planes[o].first, stride,
-                                  params.support_floor_step_sigmas)
+        return meets_without_step(f, surface_grid(f, params), r.members, on_kept, planes[o].first,
+                                  stride, params.support_floor_step_sigmas)
             .value_or(false);
       };
       std::erase_if(regions, [&](const PlaneRegions& r) {

@@ -44,6 +44,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"max_plane_angle_deg", Kind::angle, &p.max_plane_angle_deg},
       {"first_plane_fits_up", Kind::flag, nullptr, nullptr, 0, &p.first_plane_fits_up},
       {"first_plane_normals_up", Kind::flag, nullptr, nullptr, 0, &p.first_plane_normals_up},
+      {"surface_max_incidence_deg", Kind::angle, &p.surface_max_incidence_deg},
       {"first_plane_noise_fit", Kind::flag, nullptr, nullptr, 0, &p.first_plane_noise_fit},
       {"noise_fit_min_turn_deg", Kind::angle, &p.noise_fit_min_turn_deg},
       {"plane_distance_m", Kind::positive, &p.plane_distance_m},

@@ -44,6 +44,16 @@ struct ScanParams {
   // slant, fits the band's own tilt, but its pixels' normals are the wall's (a level
   // camera facing a wall 2.5 m away). Asked with first_plane_fits_up only.
   bool first_plane_normals_up = true;
+  // A pixel's surface normal (the up-facing test that gathers later supports' heights,
+  // and the normals above) is taken through neighbours on its own surface: no further
+  // from it than a surface seen at this incidence spans over the pixels between them,
+  // plus three sigma of two returns' noise; where the neighbours a full reach away are
+  // not, nearer ones are taken. A table's front face and the floor a metre behind it
+  // span a normal that faces up: seen from 25 cm above, such pixels outnumbered the
+  // table's top in the band below it (fresh rooms 9559). The Kinect returns almost
+  // nothing from surfaces seen more obliquely than this. 90: any neighbour with depth
+  // (before session 30).
+  double surface_max_incidence_deg = 85;
   // The first plane is fitted again on the sensor's noise model: least squares weighted
   // by each point's axial noise, on the points within the noise-scaled band (below),
   // trimmed, round after round until it settles. RANSAC's fixed band is under one
