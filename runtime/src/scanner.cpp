@@ -1530,8 +1530,8 @@ std::optional<bool> meets_without_step(const Frame& f, const SurfaceGrid& grid,
 
 // The mean of the surface's own normals at `pixels` (unit, each turned toward the
 // camera), through the neighbours facing_up reads (SurfaceGrid::neighbours); zero when
-// none has both neighbours. Each normal follows the
-// surface the pixel lies on, whatever plane selected it.
+// none has both neighbours. Each normal follows the surface the pixel lies on, whatever
+// plane selected it.
 Vec3 mean_surface_normal(const Frame& f, const SurfaceGrid& grid, const std::vector<int>& pixels) {
   const PointXYZRGB* pts = f.points.data();
   Vec3 sum{0, 0, 0};

@@ -1159,7 +1159,7 @@ TEST(ScannerFar, AFarFloorsPlaneIsFittedOnTheSensorsNoiseModel) {
   EXPECT_GT(worst_tilt_deg(*old), 5.0);
 }
 
-// How many of room `seed`'s objects on its table are found whole standing on a scanned
+// How many of the room's objects on its table are found whole, standing on a scanned
 // support within 2 cm of the table's height.
 int whole_on_the_table(const RoomScan& r) {
   const SupportSurface& table = r.truth.supports[0];
@@ -1195,10 +1195,10 @@ TEST(ScannerFar, ATablesFrontFaceOverTheFloorBehindDoesNotFaceUp) {
   // Fresh room 9559 (session 30), its floor fitted on the noise model at any turn: a
   // table 1.5 to 2.3 m away seen from 25 cm above. The pixels at the foot of its front
   // face took their normal through a neighbour on the floor a metre behind, which faces
-  // up: some 720 of them lay within 3 cm below the top, the height band of 320 pixels
-  // of the top, and the table's plane went 1.4 cm under it and was dropped. A neighbour
-  // further than a surface seen at 85 degrees spans lies across a depth edge, and the
-  // table is found at its height.
+  // up: some 720 of them lay 0.5 to 3 cm under the top, outnumbering the top's own 320
+  // in the height histogram, and the table's plane went 1.4 cm under it and was
+  // dropped. A neighbour further than a surface seen at 85 degrees spans lies across a
+  // depth edge, and the table is found at its height.
   ScanParams params;
   params.noise_fit_min_turn_deg = 0;
   ScanParams before = params;
