@@ -81,10 +81,16 @@ double plane_band(const ScanParams& params, double z) {
   return std::max(params.plane_distance_m, params.plane_noise_factor * kinect_sigma_z(z));
 }
 
+// sigma_z at the pixel p over its ray's length |p|: the noise moves a point along its
+// ray, so off a plane of normal n it is this times |n . p| (noise_across, band_noise).
+double noise_per_ray_m(Vec3 p) {
+  return kinect_sigma_z(p.z) / std::max(norm(p), 1e-9);
+}
+
 // The depth noise off a plane of normal n at the pixel p: sigma_z along its ray, seen
 // across the plane (|n . ray|).
 double noise_across(Vec3 p, Vec3 n) {
-  return kinect_sigma_z(p.z) * std::abs(dot(n, p)) / std::max(norm(p), 1e-9);
+  return noise_per_ray_m(p) * std::abs(dot(n, p));
 }
 
 // The band of heights over a support's plane n where the pixel p is its surface, not an
@@ -100,7 +106,7 @@ double surface_band(const ScanParams& params, Vec3 p, Vec3 n, double scale, doub
 
 // p's plane_noise_factor sigma_z / |p| (surface_band).
 double band_noise(const ScanParams& params, Vec3 p) {
-  return params.plane_noise_factor * kinect_sigma_z(p.z) / std::max(norm(p), 1e-9);
+  return params.plane_noise_factor * noise_per_ray_m(p);
 }
 
 // Cluster tolerance at depth z: the configured one, or wider where depth noise makes
