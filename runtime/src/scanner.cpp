@@ -87,6 +87,12 @@ double noise_per_ray_m(Vec3 p) {
   return kinect_sigma_z(p.z) / std::max(norm(p), 1e-9);
 }
 
+// The spread of the difference of two raw returns' depths at depth z (sigma_z sqrt 2):
+// how far apart two pixels of one surface may read.
+double two_returns_sigma(double z) {
+  return std::sqrt(2.0) * kinect_sigma_z(z);
+}
+
 // The depth noise off a plane of normal n at the pixel p: sigma_z along its ray, seen
 // across the plane (|n . ray|).
 double noise_across(Vec3 p, Vec3 n) {
@@ -445,8 +451,8 @@ struct SurfaceGrid {
   int w, h, reach;
   int least_reach;  // reach / 4; reach itself where any neighbour counts (90 degrees)
   float spread;     // per pixel apart and metre of depth: 1 / (focal cos(max_incidence_deg))
-  // Three sigma of the difference of two returns' depths (sqrt(2) sigma_z).
-  static constexpr float kTwoReturnsSigmas = 4.24f;
+  // Sigmas of two returns' difference (two_returns_sigma) a neighbour may lie further.
+  static constexpr double kNoiseSigmas = 3;
 
   SurfaceGrid(const Frame& f, int reach_px, double max_incidence_deg)
       : pts(f.points.data()),
@@ -467,7 +473,7 @@ struct SurfaceGrid {
     if (!(b.z > 0)) return false;
     const float dx = b.x - a.x, dy = b.y - a.y, dz = b.z - a.z;
     const float most = a.z * spread * static_cast<float>(apart) +
-                       kTwoReturnsSigmas * static_cast<float>(kinect_sigma_z(a.z));
+                       static_cast<float>(kNoiseSigmas * two_returns_sigma(a.z));
     return dx * dx + dy * dy + dz * dz <= most * most;
   }
 
@@ -2746,9 +2752,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
       const double z = f.points[i].z;
       // How much farther a pixel above may lie and still be as near as the top
       // (top_look_noise_sigmas).
-      const double near_tol =
-          std::max(cluster_tolerance(params, z),
-                   params.top_look_noise_sigmas * std::sqrt(2.0) * kinect_sigma_z(z));
+      const double near_tol = std::max(cluster_tolerance(params, z),
+                                       params.top_look_noise_sigmas * two_returns_sigma(z));
       // The first pixel of the support's front edge above the cluster, once seen: the
       // look-up spans six grid rows, or the edge's thickness (support_edge_m) where it
       // covers more rows (a table's edge 60 cm from the camera spans ten).
