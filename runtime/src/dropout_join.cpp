@@ -116,9 +116,15 @@ std::vector<std::vector<int>> join_dropout_fragments(
     const std::function<double(double)>& tolerance,
     const std::function<int(const std::vector<int>&)>& floor, const DropoutJoinParams& params) {
   const int cell = std::max(params.max_gap_px, 1);
+  // Every fragment under the floor, not only those under the coarse half the scanner
+  // drops at once: a grid pixel stands for step^2 pixels, but on a dark surface few of
+  // them return, so a fragment of half the floor or more still falls under it later
+  // (a dark torus 2.1 m away in four such fragments was missed).
+  const int share = params.to_floor ? 1 : 2;
   std::vector<int> small;
   for (size_t g = 0; g < grids.size(); ++g)
-    if (!grids[g].empty() && static_cast<int>(grids[g].size()) * step * step < floor(grids[g]) / 2)
+    if (!grids[g].empty() &&
+        static_cast<int>(grids[g].size()) * step * step < floor(grids[g]) / share)
       small.push_back(static_cast<int>(g));
   if (small.size() < 2 || f.width <= 0) return grids;
   // The small fragments' pixels in image cells as wide as the widest gap.

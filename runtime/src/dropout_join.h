@@ -18,6 +18,9 @@ struct DropoutJoinParams {
   // The widest run of missing pixels bridged between two fragments (ScanParams::
   // dropout_max_gap_px says why 8).
   int max_gap_px = 8;
+  // Every fragment under the floor is joined (ScanParams::dropout_join_to_floor says
+  // why); false: only those under half of it, which the scanner drops at once.
+  bool to_floor = true;
 };
 
 // grids: grid clusters (pixel indices at `step`), mask: the support each pixel is over

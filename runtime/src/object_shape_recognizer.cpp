@@ -1455,6 +1455,13 @@ Candidate fit_lying_cylinder_along(const Samples& s, double theta, double ca, do
 // A box in any orientation (a laptop lid leaning back, a book on its edge): axes
 // from the points' principal directions, extents from robust quantiles. Tried only
 // when no shape standing on the plane explains the object.
+// A box no thicker than its points' tolerance is one face's noise: one face seen (a
+// furniture panel at a grazing angle, a carton face-on), its depth not measured.
+bool one_face_thick(const ShapeFit& box, const Samples& s) {
+  const auto& d = box.primitive.dimensions_m;
+  return !s.tol.empty() && *std::min_element(d.begin(), d.end()) <= quantile(s.tol, 0.5);
+}
+
 ShapeFit fit_oriented_box(const Samples& s, const ShapeRecognizerParams& params) {
   ShapeFit out;
   const size_t n = s.xyz.size();
@@ -2312,6 +2319,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
       if (tilted.coverage >= params.min_coverage) {
         out.primitives.push_back(tilted);
         out.fit = tilted.coverage;
+        out.depth_unseen = params.one_face_box_partial && one_face_thick(tilted, s);
       }
     }
     return out;

@@ -2816,9 +2816,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     if (tall) grid.erase(std::remove_if(grid.begin(), grid.end(), is_beyond), grid.end());
   }
   // A dark object's fragments, parted by its missing depth, joined (dropout_join.h).
-  const std::vector<std::vector<int>> grids =
-      join_dropout_fragments(f, mask, std::move(grown_grids), stride, tolerance, least_points,
-                             DropoutJoinParams{params.dropout_max_gap_px});
+  const std::vector<std::vector<int>> grids = join_dropout_fragments(
+      f, mask, std::move(grown_grids), stride, tolerance, least_points,
+      DropoutJoinParams{params.dropout_max_gap_px, params.dropout_join_to_floor});
   // Each grid's support, lowest point and extent across the view: what the rule for a
   // body under an unseen top (below) asks of the clusters standing on it, and where
   // each stands (support_from_foot).

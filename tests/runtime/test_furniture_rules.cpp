@@ -48,6 +48,12 @@ ScanParams alone() {
   // Nor does a cluster run on above the band by its top edge's columns (session 22): that
   // takes the wardrobes' slices of AWardrobeCutByTheHeightBandIsNoProp too.
   p.cut_join_column_share = 0;
+  // Nor is a tilted box one face thick partial (session 31): it takes 2033's cabinet
+  // front too. Nor are a dark surface's fragments of half the size floor or more joined
+  // (session 31): with the rules above off, it joins pieces of 5005's wardrobe slice and
+  // of the wall behind 5073's and 7014's table into whole props.
+  p.shape.one_face_box_partial = false;
+  p.dropout_join_to_floor = false;
   return p;
 }
 
@@ -620,9 +626,11 @@ TEST(SupportRules, WhatStandsBehindTheSupportsFarEdgeIsPartial) {
   // behind the table's far edge (1.5 to 3.3 m away) and a cabinet's top strip came out
   // whole. Below their lowest pixel each face runs on down past the table's surface
   // around it until the table's edge, nearer, hides it (runs_below_support). No true
-  // object loses its vote. The far-edge rule (session 20) is off on both sides.
+  // object loses its vote. The far-edge rule (session 20) is off on both sides, and so is
+  // the one-face rule (session 31), which takes a chair's back seen face-on as well.
   ScanParams with;
   with.edge_room_factor = 0;
+  with.shape.one_face_box_partial = false;
   ScanParams without = with;
   without.below_support_sigmas = 0;
   const std::vector<std::uint64_t> seeds{8015u, 8088u, 8094u, 5034u};
@@ -816,6 +824,9 @@ TEST(FurnitureRules, AFaceAsWideAsTheSeatItStandsOnIsTheChairsBack) {
   // The band as before session 27 (band_along_ray): with the band along the rays 9852's
   // back is no whole prop without this rule either.
   without.band_along_ray = false;
+  // Nor is a tilted box one face thick partial (session 31): the backs, seen face-on, are
+  // such slabs.
+  without.shape.one_face_box_partial = false;
   for (std::uint64_t seed : {9824u, 9852u}) {
     const Seen on = scan_seeds({seed}, true, kLabelChair, ScanParams{}, true);
     const Seen off = scan_seeds({seed}, true, kLabelChair, without, true);

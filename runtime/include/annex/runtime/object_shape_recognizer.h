@@ -110,6 +110,9 @@ struct ShapeRecognizerParams {
   // be: the inside of a cup). A cylinder wider than two touching bodies, its axis
   // nearer than their faces, otherwise follows their fronts from its far inside.
   bool own_side_hides = true;
+  // A tilted box no thicker than its points' tolerance is one face's noise: its depth
+  // is not measured (ObjectShape::depth_unseen), as for a box seen by one side alone.
+  bool one_face_box_partial = true;
   // At most this many points enter the fits (a deterministic subsample).
   int max_fit_points = 800;
   // The cone's Levenberg-Marquardt runs first on an even subsample of at most this many

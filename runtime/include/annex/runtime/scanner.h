@@ -353,6 +353,11 @@ struct ScanParams {
   // at 1 m and 3.8 cm at 2.5 m, under the 5 cm of the smallest object measured, and the
   // join asks the points to lie as close in 3D as the gap's width at their depth.
   int dropout_max_gap_px = 8;
+  // Every fragment under the size floor is offered to the join, not only those under
+  // the grid's coarse half of it: on a dark surface few of a grid pixel's block return,
+  // so a fragment of half the floor or more still falls under it (session 31; false:
+  // as before).
+  bool dropout_join_to_floor = true;
   // Full-resolution points at 1 m; farther clusters need fewer (a surface's pixel
   // count falls with the square of depth), never fewer than min_cluster_points_far:
   // a 6 cm ball 2 m away shows about 60 points above the band (80 dropped it). Such
