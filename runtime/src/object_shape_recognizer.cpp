@@ -1452,9 +1452,6 @@ Candidate fit_lying_cylinder_along(const Samples& s, double theta, double ca, do
   return c;
 }
 
-// A box in any orientation (a laptop lid leaning back, a book on its edge): axes
-// from the points' principal directions, extents from robust quantiles. Tried only
-// when no shape standing on the plane explains the object.
 // A box no thicker than its points' tolerance is one face's noise: one face seen (a
 // furniture panel at a grazing angle, a carton face-on), its depth not measured.
 bool one_face_thick(const ShapeFit& box, const Samples& s) {
@@ -1462,6 +1459,9 @@ bool one_face_thick(const ShapeFit& box, const Samples& s) {
   return !s.tol.empty() && *std::min_element(d.begin(), d.end()) <= quantile(s.tol, 0.5);
 }
 
+// A box in any orientation (a laptop lid leaning back, a book on its edge): axes
+// from the points' principal directions, extents from robust quantiles. Tried only
+// when no shape standing on the plane explains the object.
 ShapeFit fit_oriented_box(const Samples& s, const ShapeRecognizerParams& params) {
   ShapeFit out;
   const size_t n = s.xyz.size();
