@@ -2033,6 +2033,7 @@ PlaneFit noise_fit_plane(const std::vector<Vec3>& pool, const std::vector<double
                                                    StridedPixels& strided, Vec3 up,
                                                    std::mt19937_64& rng) {
   const int stride = std::max(1, params.pixel_stride);
+  const SurfaceGrid normals = surface_grid(f, params);  // the up-facing test's neighbours
   const double cos_tilt = cos_degrees(params.max_support_tilt_deg);
   std::vector<Found> found;
   std::vector<char> free(f.points.size(), 0);
@@ -2217,7 +2218,7 @@ PlaneFit noise_fit_plane(const std::vector<Vec3>& pool, const std::vector<double
       pool_pts.resize(kept);
       if (up_ready) pool_up.resize(kept), pool_h.resize(kept);
       if (first_plane) {
-        first_up = facing_up(surface_grid(f, params), pool, pool_cells, stride, ps.plane.n);
+        first_up = facing_up(normals, pool, pool_cells, stride, ps.plane.n);
         first_h.resize(pool.size());
         for (size_t k = 0; k < pool.size(); ++k) first_h[k] = dot(ps.plane.n, pool_pts[k]) + ps.plane.d;
       }
@@ -2294,8 +2295,8 @@ PlaneFit noise_fit_plane(const std::vector<Vec3>& pool, const std::vector<double
             for (int i : k.members) on_kept[static_cast<size_t>(i)] = 1;
           on_kept_plane = o;
         }
-        return meets_without_step(f, surface_grid(f, params), r.members, on_kept, planes[o].first,
-                                  stride, params.support_floor_step_sigmas)
+        return meets_without_step(f, normals, r.members, on_kept, planes[o].first, stride,
+                                  params.support_floor_step_sigmas)
             .value_or(false);
       };
       std::erase_if(regions, [&](const PlaneRegions& r) {
