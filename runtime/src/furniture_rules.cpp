@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 namespace annex {
@@ -151,6 +152,39 @@ bool hangs_seen_under(const Frame& f, const std::vector<int>& grid, int step, Ve
   if (!(run > 0) || !(low_h > width * (d - low_h) / run)) return false;
   const FootView v = foot_view(f, grid, step, tolerance);
   return v.columns >= 3 && 2 * v.farther > v.columns;
+}
+
+bool view_under_meets_raised(const Frame& f, const std::vector<int>& grid, int step,
+                             const Plane& support, double bands, const ToleranceAt& tolerance,
+                             const ToleranceAt& band) {
+  if (!(bands > 0)) return false;
+  const std::vector<std::pair<int, int>> ends = end_per_column(f, grid, false);
+  if (ends.empty()) return false;
+  // Behind the body's farthest point: not under it (a body stacked on another, or a
+  // piece of one, shows the lower one's top just behind its own lowest point).
+  double far = 0;
+  for (int i : grid) far = std::max(far, static_cast<double>(f.points[static_cast<size_t>(i)].z));
+  far += tolerance(far);
+  // The middle third of its columns: a prop's foot lies under its middle (a ball's is a
+  // point), and a view beside the foot, under a cup's rim, may pass on past the support.
+  const int span = ends.back().first - ends.front().first;
+  const int lo = ends.front().first + span / 3, hi = ends.back().first - span / 3;
+  const int count = static_cast<int>(f.points.size());
+  int raised = 0, middle = 0;
+  for (const auto& [col, i] : ends) {
+    if (col < lo || col > hi) continue;
+    ++middle;
+    for (int r = 1; r <= 3; ++r) {
+      const int j = i + r * step * f.width;
+      if (j >= count) break;
+      const PointXYZRGB& q = f.points[static_cast<size_t>(j)];
+      if (!has_depth(q)) continue;  // a dropout: look one row on
+      const double h = dot(support.normal, at(f, j)) + support.d;
+      raised += q.z > far && h > bands * std::max(kFlatSurface, band(q.z));
+      break;
+    }
+  }
+  return middle >= 3 && 2 * raised > middle;
 }
 
 std::optional<Plane> own_support_around(const Frame& f, const std::vector<int>& grid, int step,
@@ -311,6 +345,66 @@ bool foot_cut_by_bottom(const Frame& f, const std::vector<int>& pixels, int bott
     }
     cut += off;
     if (cut >= 3) return true;
+  }
+  return false;
+}
+
+namespace {
+
+// Samples of a fit's outline: a cylinder's or cone's end circles, a torus's lowest and
+// widest circles, a box's corners, a sphere's foot (the point nearest the support).
+std::vector<Vec3> outline_samples(const ShapeFit& fit, Vec3 up) {
+  constexpr int kRing = 48;
+  const PhysicalPrimitive& p = fit.primitive;
+  const std::vector<double>& d = p.dimensions_m;
+  const Vec3 a = normalized(p.axis);
+  Vec3 u = fit.x_axis - a * dot(fit.x_axis, a);
+  if (norm(u) < 1e-6) u = cross(a, std::abs(a.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0});
+  u = normalized(u);
+  const Vec3 v = cross(a, u);
+  std::vector<Vec3> out;
+  const auto ring = [&](Vec3 c, double r) {
+    for (int k = 0; k < kRing; ++k) {
+      const double t = 2 * kPi * k / kRing;
+      out.push_back(c + (u * std::cos(t) + v * std::sin(t)) * r);
+    }
+  };
+  if (p.kind == ShapeKind::sphere && d.size() >= 1) out.push_back(p.center - up * d[0]);
+  if ((p.kind == ShapeKind::cylinder || p.kind == ShapeKind::cone) && d.size() >= 2) {
+    ring(p.center - a * (d[1] / 2), d[0]);
+    ring(p.center + a * (d[1] / 2), p.kind == ShapeKind::cone ? p.narrow_radius_m : d[0]);
+  }
+  if (p.kind == ShapeKind::torus && d.size() >= 2) {
+    ring(p.center - a * d[1], d[0]);
+    ring(p.center, d[0] + d[1]);
+  }
+  if (p.kind == ShapeKind::box && d.size() >= 3)
+    for (int k = 0; k < 8; ++k)
+      out.push_back(p.center + u * (d[0] / 2 * ((k & 1) ? 1 : -1)) +
+                    v * (d[1] / 2 * ((k & 2) ? 1 : -1)) + a * (d[2] / 2 * ((k & 4) ? 1 : -1)));
+  return out;
+}
+
+}  // namespace
+
+bool fitted_foot_off_image(const Frame& f, const ShapeFit& fit, const Plane& support,
+                           const DepthRect& rect, const ScanParams& params,
+                           const ToleranceAt& band) {
+  if (!params.fitted_foot_at_border) return false;
+  const std::vector<Vec3> samples = outline_samples(fit, support.normal);
+  double lowest = std::numeric_limits<double>::infinity();
+  for (Vec3 s : samples) lowest = std::min(lowest, dot(support.normal, s) + support.d);
+  const CameraIntrinsics k = grid_intrinsics(f);
+  const double border = std::max(0, params.border_px);
+  for (Vec3 s : samples) {
+    // Too near the camera's plane to project (a fit gone wild): no foot to speak of.
+    if (s.z < params.sensor_min_range_m || s.z <= 0.05) continue;
+    const double height = dot(support.normal, s) + support.d - lowest;
+    if (height > std::max(params.min_height_m, band(s.z))) continue;
+    const double x = k.fx * s.x / s.z + k.cx, y = k.fy * s.y / s.z + k.cy;
+    if (x < rect.left + border || x > rect.right - border || y < rect.top + border ||
+        y > rect.bottom - border)
+      return true;
   }
   return false;
 }

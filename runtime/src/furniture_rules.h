@@ -14,6 +14,7 @@
 #include "annex/common/geometry.h"
 #include "annex/common/physical_scene.h"
 #include "annex/runtime/frame.h"
+#include "annex/runtime/object_shape_recognizer.h"
 #include "annex/runtime/scanner.h"
 
 namespace annex {
@@ -92,6 +93,21 @@ FootView foot_view(const Frame& f, const std::vector<int>& grid, int step, const
 bool hangs_seen_under(const Frame& f, const std::vector<int>& grid, int step, Vec3 n, double d, Vec3 low,
                       double low_h, double width, const ToleranceAt& tolerance);
 
+// Whether the view just under the cluster meets something raised before its support: in
+// more than half of the middle third of its grid columns the first valid pixel one to
+// three grid rows below its lowest pixel lies behind the cluster's farthest point (more
+// than the tolerance there) and higher above the support than `bands` times the
+// support's band at its depth (`band`). A body standing on its support hides its foot
+// under its middle, so the ray grazing its lowest point there reaches that support in
+// front of the foot, before anything behind the body: a ball's bulge, a bowl's rim. A
+// shelf's board front 20 cm up shows the wall 30 cm behind it there: nothing of its own
+// reaches down to hold it (params.seen_under_raised_bands). Beside the foot (the outer
+// thirds) a view under a cup's rim may pass on to the wall; just behind the body's
+// lowest point lies what it is stacked on, or its own lower piece.
+bool view_under_meets_raised(const Frame& f, const std::vector<int>& grid, int step,
+                             const Plane& support, double bands, const ToleranceAt& tolerance,
+                             const ToleranceAt& band);
+
 // Whether the cluster's foot is not seen on its support: in more than half of the grid
 // columns that show anything below its lowest pixel, the first valid pixel one to three
 // grid rows below is no point of its support's surface region (`surface_of`: the
@@ -158,5 +174,21 @@ bool runs_below_support(const Frame& f, const std::vector<int>& grid, int step, 
 // where it ends (params.foot_at_border; a border sliver of the near table's objects).
 bool foot_cut_by_bottom(const Frame& f, const std::vector<int>& pixels, int bottom,
                         const ScanParams& params, const ToleranceAt& band);
+
+// The rectangle of rows and columns that holds depth (a Kinect leaves a few invalid ones
+// at its edges), in full-resolution pixels.
+struct DepthRect {
+  int left = 0, top = 0, right = -1, bottom = -1;
+};
+
+// Whether the salient fit's foot, where it meets its support, lies within border_px of
+// `rect`'s edge or beyond it, on any side: the outline samples (a cylinder's or cone's end
+// circles, a box's corners, a torus's lowest circle, a sphere's foot) no higher than the
+// support's band at their depth above the lowest one, projected. Those lowest few
+// millimetres are the band's, no cluster pixel, so a flat cone whose foot ring runs off
+// the side edge has no pixel near it (fresh rooms 10077); its fit says where the foot is.
+bool fitted_foot_off_image(const Frame& f, const ShapeFit& fit, const Plane& support,
+                           const DepthRect& rect, const ScanParams& params,
+                           const ToleranceAt& band);
 
 }  // namespace annex

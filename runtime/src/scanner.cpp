@@ -3104,8 +3104,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     };
     // Seen under, hanging higher than anything of its own hidden beneath it could hold it
     // (a shelf's board on side panels outside the cluster, a lamp's head on its arm).
-    const bool hanging = params.partial_when_seen_under &&
-                         hangs_seen_under(f, grid, stride, plane.n, plane.d, low, bottom_h, width, tolerance);
+    const bool hanging =
+        params.partial_when_seen_under &&
+        (hangs_seen_under(f, grid, stride, plane.n, plane.d, low, bottom_h, width, tolerance) ||
+         view_under_meets_raised(f, grid, stride, {plane.n, plane.d},
+                                 params.seen_under_raised_bands, tolerance,
+                                 [&](double z) { return plane_band(params, z); }));
     // Or its face runs on below its support's surface until that surface's edge, nearer,
     // hides it: it stands lower, behind the edge, its foot unseen (asked only when no rule
     // above has flagged it).
@@ -3204,6 +3208,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     top = first(rows, gw / 5) * stride, bottom = last(rows, gw / 5) * stride + stride - 1;
     left = first(cols, gh / 5) * stride, right = last(cols, gh / 5) * stride + stride - 1;
   }
+  const DepthRect depth_rect{left, top, right, bottom};
   const int border = std::max(0, params.border_px);
   // Cut by the image's border (three pixels or more within border_px of it) or hidden
   // in half under something nearer: what is missing of it no one sees. The objects'
@@ -3361,9 +3366,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // Kept apart from an object cut by the border or hidden, whose piece it may be.
     size_t kept_apart = 0;
     for (int i : sc.pixels) kept_apart += apart[static_cast<size_t>(i)];
-    obj.partial = cut_or_hidden(sc.pixels) || foot_cut_by_bottom(f, sc.pixels, bottom, params, band_at) ||
-                  obj.point_count < params.min_whole_points || sc.shape.depth_unseen ||
-                  2 * kept_apart > sc.pixels.size();
+    obj.partial =
+        cut_or_hidden(sc.pixels) || foot_cut_by_bottom(f, sc.pixels, bottom, params, band_at) ||
+        obj.point_count < params.min_whole_points || sc.shape.depth_unseen ||
+        2 * kept_apart > sc.pixels.size() ||
+        (!sc.shape.primitives.empty() &&
+         fitted_foot_off_image(f, sc.shape.primitives[0], sc.support, depth_rect, params, band_at));
   }, &object_order);
   result.stages.push_back({"shapes", ms_since(t0)});
   order_and_name_objects(result);

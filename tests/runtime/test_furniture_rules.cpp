@@ -250,6 +250,8 @@ TEST(FurnitureRules, ASeatSeenBehindItsBackIsPartial) {
   const std::vector<std::uint64_t> seeds{5029u, 5030u, 5076u, 5110u};
   ScanParams without;
   without.hidden_foot_min_height_m = 0;
+  // One seat's fitted box runs off the image's edge (session 32's rule): off too.
+  without.fitted_foot_at_border = false;
   const Seen on = scan_seeds(seeds, true, kLabelBackChair, ScanParams{}, true);
   const Seen off = scan_seeds(seeds, true, kLabelBackChair, without, true);
   EXPECT_EQ(on.whole, 0);
@@ -312,6 +314,48 @@ TEST(FurnitureRules, ABowlWideEndUpHidingItsFootStaysWhole) {
                     for (size_t k = 0; k < owners.size(); ++k) whole_off += owners[k] >= 0 && !scan.scene.objects[k].partial;
                   });
     EXPECT_EQ(whole_on, whole_off) << "seed " << seed;
+  }
+}
+
+TEST(FurnitureRules, ABoardTheViewPassesUnderToTheWallIsPartial) {
+  // Fresh rooms 9518 (session 32): a shelf's board 2.15 m away, its lowest point 25.6 cm
+  // above the table it stands beside, fitted as a box 50 cm wide and reported whole. Its
+  // width times the view's slope reaches below its foot, so the shadow rule keeps it; but
+  // under the middle of it the view meets the wall 33 cm behind it and 14 cm above the
+  // table: nothing of its own reaches down to hold it (seen_under_raised_bands).
+  ScanParams without;
+  without.seen_under_raised_bands = 0;
+  const Seen on = scan_seeds({9518u}, true, kLabelShelf, ScanParams{}, true);
+  const Seen off = scan_seeds({9518u}, true, kLabelShelf, without, true);
+  EXPECT_EQ(on.whole, 0);
+  EXPECT_GE(off.whole, 1);
+  EXPECT_EQ(on.found, off.found);
+}
+
+TEST(FurnitureRules, WhatTheViewUnderMeetsJustBehindOrBesideTheFootStaysWhole) {
+  // Tuned 2031 and plain 6065 (world), rooms 5117 and fresh rooms 8087, 2.5 to 2.9 m away:
+  // a view under a cup's rim beside its foot passes on to the wall, and a frustum's rim
+  // fitted apart from its lower part shows that part just behind its own lowest point,
+  // 15 cm above the table. Asked over every column and of whatever lies farther than the
+  // lowest point, the rule flagged such objects partial; over the middle third, and of
+  // what lies behind the whole cluster, no true object is.
+  ScanParams without;
+  without.seen_under_raised_bands = 0;
+  for (const auto& c : {std::pair{2031u, false}, std::pair{6065u, false}, std::pair{5117u, true},
+                        std::pair{8087u, true}}) {
+    const std::uint64_t seed = c.first;
+    const bool rooms = c.second;
+    const auto whole = [&](const ScanParams& params) {
+      int n = 0;
+      for_each_scan({seed}, rooms, true, params,
+                    [&](const SyntheticScene&, const SyntheticFrame&, const ScanResult& scan,
+                        const std::vector<int>& owners) {
+                      for (size_t k = 0; k < owners.size(); ++k)
+                        n += owners[k] >= 0 && !scan.scene.objects[k].partial;
+                    });
+      return n;
+    };
+    EXPECT_EQ(whole(ScanParams{}), whole(without)) << "seed " << seed;
   }
 }
 
@@ -463,9 +507,11 @@ TEST(SupportRules, AFootRunningOffTheImagesBottomIsCutByTheBorder) {
   // pixels, so the cluster stops 4 to 10 rows short of the edge) and held-out room 5112
   // (a dark torus at the bottom edge, its lower half without depth down to the edge):
   // reported whole, though no one sees where they end (foot_at_border).
-  // The near blind zone's rule off in both (session 16): it flags one of them too.
+  // The near blind zone's rule off in both (session 16), and the fitted foot's (session
+  // 32): each flags some of them too.
   ScanParams with;
   with.sensor_min_range_m = 0;
+  with.fitted_foot_at_border = false;
   ScanParams without = with;
   without.foot_at_border = false;
   const Slivers on_world = scan_slivers({3002u}, false, with);
@@ -477,6 +523,24 @@ TEST(SupportRules, AFootRunningOffTheImagesBottomIsCutByTheBorder) {
   // No object seen whole is flagged.
   EXPECT_EQ(on_world.whole, off_world.whole);
   EXPECT_EQ(on_rooms.whole, off_rooms.whole);
+}
+
+TEST(SupportRules, AFittedFootRunningOffTheSideIsCutByTheBorder) {
+  // Fresh rooms 10077 (session 32): a flat cone 0.5 m away at the image's left edge, its
+  // foot ring running off it. The ring's lowest centimetre is the support's band, no
+  // cluster pixel, and the pixels above it stop short of the edge: reported whole. Its
+  // fit says where the foot is; projected, part of it lies past the edge
+  // (fitted_foot_at_border). Rooms 7006 and 5112 (the bottom edge's cases) and 10001 to
+  // 10010 show no object seen whole flagged by it.
+  ScanParams without;
+  without.fitted_foot_at_border = false;
+  std::vector<std::uint64_t> seeds{10077u, 7006u, 5112u};
+  for (std::uint64_t s = 10001u; s <= 10010u; ++s) seeds.push_back(s);
+  const Slivers on = scan_slivers(seeds, true, ScanParams{});
+  const Slivers off = scan_slivers(seeds, true, without);
+  EXPECT_EQ(on.slivers, 0);
+  EXPECT_EQ(off.slivers, 1);
+  EXPECT_EQ(on.whole, off.whole);
 }
 
 }  // namespace

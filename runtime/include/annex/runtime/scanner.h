@@ -245,6 +245,12 @@ struct ScanParams {
   // in that shadow and stays whole. Also counts such columns with the hidden ones in
   // hidden_foot_min_height_m's rule (furniture_rules.h, hangs_seen_under). false: off.
   bool partial_when_seen_under = true;
+  // ... and so is one the view just under which meets, in most columns, something
+  // farther standing higher above its support than this many of the support's bands at
+  // its depth: a body standing on its support hides its foot behind or under itself, so
+  // that view reaches the support first (furniture_rules.h, view_under_meets_raised; a
+  // shelf's board front showing the wall under it). 0: off.
+  double seen_under_raised_bands = 2;
   // A cluster lying on the plane fitted to its support's own pixels around it (nine in
   // ten of its points within the support's band at their depth, min_height_m at least,
   // above it) is a piece of that support's
@@ -419,6 +425,11 @@ struct ScanParams {
   // with no depth below them down to that edge (a dark or too-near foot), in three
   // columns or more (furniture_rules.h, foot_cut_by_bottom). false: border_px alone.
   bool foot_at_border = true;
+  // ... and so are objects whose fitted foot (the salient fit's outline within the
+  // support's band above its lowest point) projects within border_px of any edge of the
+  // image's depth or beyond it: the band's pixels are no cluster pixels, so a flat cone's
+  // foot ring can run off the side unseen (furniture_rules.h, fitted_foot_off_image).
+  bool fitted_foot_at_border = true;
   // ... and so are objects running into the sensor's near blind zone, which returns no
   // depth: three pixels or more nearer than sensor_min_range_m + near_cut_margin_m beside
   // a pixel without depth (a bowl's near rim 40 cm from the camera). The margin is a
