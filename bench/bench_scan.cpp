@@ -393,7 +393,8 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
   BandTally tally[3];
   std::map<std::string, std::map<std::string, int>> confusion;
   int false_props = 0, false_legs = 0, false_furniture = 0, false_chairs = 0, false_shelves = 0,
-      slivers = 0, partial_flagged = 0, cut_objects = 0, fragments = 0, scans = 0, failures = 0;
+      slivers = 0, partial_flagged = 0, cut_objects = 0, fragments = 0, whole_fragments = 0,
+      scans = 0, failures = 0;
   // room_scene_params' extra elements: false props on each, scenes that have each.
   std::map<int, int> false_extras, extra_scenes;
   // The room features (room_scene_params): per feature and band, and touching pairs.
@@ -518,6 +519,21 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
           if (scan->clusters[k2].pixels.size() > most) most = scan->clusters[k2].pixels.size(), pick = static_cast<int>(k2);
         }
       fragments += std::max(0, pieces - 1);
+      // A piece besides the largest reported whole is a prop the user could annex that
+      // is no object: a bowl's rim apart from its body.
+      for (size_t k2 = 0; k2 < owner.size(); ++k2) {
+        if (owner[k2] != static_cast<int>(t) || static_cast<int>(k2) == pick) continue;
+        const PhysicalObject& piece = scan->scene.objects[k2];
+        if (piece.partial) continue;
+        ++whole_fragments;
+        if (verbose)
+          std::printf(
+              "  seed %d %s: a piece of truth %zu (%s at %.2f m) reported whole (%s, %d points)\n",
+              seed, piece.id.c_str(), t, truth_class(tp).c_str(), dist,
+              piece.primitives.empty() ? "unknown"
+                                       : std::string(shape_name(piece.primitives[0].kind)).c_str(),
+              piece.point_count);
+      }
       const std::string row = truth_class(tp);
       if (pick < 0) {
         ++confusion[row]["missed"];
@@ -624,11 +640,13 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
   for (int i = 0; i < 3; ++i)
     std::printf(" %s %d of %d%s", bands[i], tally[i].flagged_partial, tally[i].found,
                 i < 2 ? ";" : "\n");
-  std::printf("  false props (background, legs, furniture reported whole): %d (legs %d, "
-              "furniture %d, chairs %d, shelves %d); border slivers reported whole: %d; cut "
-              "objects flagged partial: %d (of %d cut objects); extra fragments: %d\n",
-              false_props, false_legs, false_furniture, false_chairs, false_shelves, slivers,
-              partial_flagged, cut_objects, fragments);
+  std::printf(
+      "  false props (background, legs, furniture reported whole): %d (legs %d, "
+      "furniture %d, chairs %d, shelves %d); border slivers reported whole: %d; cut "
+      "objects flagged partial: %d (of %d cut objects); extra fragments: %d (reported whole: "
+      "%d)\n",
+      false_props, false_legs, false_furniture, false_chairs, false_shelves, slivers,
+      partial_flagged, cut_objects, fragments, whole_fragments);
   if (room)
     std::printf(
         "  room extras (scenes showing it: false props on it): back chair %d: %d, cabinet %d: %d, "
