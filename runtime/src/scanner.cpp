@@ -1572,8 +1572,9 @@ Vec3 mean_surface_normal(const Frame& f, const SurfaceGrid& grid, const std::vec
 // 1 cm of noise, unseen rooms 7013) the fit keeps the band's tilt, but the normals the
 // wall's pixels span with their neighbours are the wall's. A support's inliers fit the
 // support and face its way. Every third inlier within the fixed band, as find_plane's refit.
-bool slices_steep_surface(const Frame& f, const std::vector<int>& inliers, const PlaneFit& plane, Vec3 up,
-                          const ScanParams& params) {
+// `grid`: the frame's SurfaceGrid (find_supports builds it once).
+bool slices_steep_surface(const Frame& f, const SurfaceGrid& grid, const std::vector<int>& inliers,
+                          const PlaneFit& plane, Vec3 up, const ScanParams& params) {
   std::vector<Vec3> pts;
   std::vector<int> sample;
   pts.reserve(inliers.size() / 3 + 1);
@@ -1587,7 +1588,7 @@ bool slices_steep_surface(const Frame& f, const std::vector<int>& inliers, const
   const PlaneFit fit = fit_plane(pts);
   if (fit.ok && std::abs(dot(fit.n, up)) < cos_cone) return true;
   if (!params.first_plane_normals_up) return false;
-  const Vec3 m = mean_surface_normal(f, surface_grid(f, params), sample);
+  const Vec3 m = mean_surface_normal(f, grid, sample);
   const double len = norm(m);
   return len > 0 && dot(m, up) < cos_cone * len;
 }
@@ -2200,7 +2201,7 @@ PlaneFit noise_fit_plane(const std::vector<Vec3>& pool, const std::vector<double
         return;
       }
       if (job == 2) {
-        steep = slices_steep_surface(f, inliers, ps.plane, up, params);
+        steep = slices_steep_surface(f, normals, inliers, ps.plane, up, params);
         return;
       }
       // Its inliers leave the search whether it counts or not (an object's top).
