@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace annex {
 
@@ -42,6 +43,62 @@ SupportAround joint_around(const SupportAround& a, const SupportAround& b) {
   out.points.erase(std::unique(out.points.begin(), out.points.end()), out.points.end());
   out.object_pixels = a.object_pixels + b.object_pixels;
   return out;
+}
+
+// Each image column's lowest pixel of a cluster.
+std::vector<int> lowest_per_column(const Frame& f, const ScanCluster& c) {
+  std::map<int, int> lowest;  // column -> the lowest pixel there
+  for (int i : c.pixels) {
+    int& l = lowest.try_emplace(i % f.width, i).first->second;
+    l = std::max(l, i);
+  }
+  std::vector<int> out;
+  out.reserve(lowest.size());
+  for (const auto& [col, i] : lowest) out.push_back(i);
+  return out;
+}
+
+// The cluster `b` (by label) lies right under the cluster whose lowest pixel per column
+// is `lowest`: in more than half of those columns (three at least) the first pixel with
+// depth one to three grid rows below is b's, within the tolerance of it in depth.
+bool right_under(const Frame& f, const std::vector<int>& lowest, int b,
+                 const std::vector<int>& label, int step,
+                 const std::function<double(double z)>& tolerance) {
+  const int count = static_cast<int>(f.points.size());
+  int under = 0;
+  for (int i : lowest) {
+    const double z = f.points[static_cast<size_t>(i)].z;
+    for (int r = 1; r <= 3; ++r) {
+      const int j = i + r * step * f.width;
+      if (j >= count) break;
+      const PointXYZRGB& q = f.points[static_cast<size_t>(j)];
+      if (!(q.z > 0)) continue;  // a dropout: look one row on
+      under += label[static_cast<size_t>(j)] == b && std::abs(q.z - z) <= tolerance(z);
+      break;
+    }
+  }
+  return lowest.size() >= 3 && 2 * static_cast<size_t>(under) > lowest.size();
+}
+
+// Drops the clusters marked `gone` and renumbers `label` (and `joined`) to match.
+void drop_gone(std::vector<ScanCluster>& clusters, std::vector<int>& label,
+               const std::vector<char>& gone, std::vector<char>* joined) {
+  const size_t n = clusters.size();
+  std::vector<ScanCluster> kept;
+  std::vector<char> kept_joined;
+  std::vector<int> new_id(n, -1);
+  for (size_t k = 0; k < n; ++k)
+    if (!gone[k]) {
+      new_id[k] = static_cast<int>(kept.size());
+      kept.push_back(std::move(clusters[k]));
+      if (joined) kept_joined.push_back((*joined)[k]);
+    }
+  // Nothing joined: every index is its own.
+  if (kept.size() < n)
+    for (int& l : label)
+      if (l >= 0) l = new_id[static_cast<size_t>(l)];
+  clusters = std::move(kept);
+  if (joined) *joined = std::move(kept_joined);
 }
 
 }  // namespace
@@ -121,18 +178,56 @@ void join_occluded_pieces(const Frame& f, std::vector<ScanCluster>& clusters,
       }
     }
   }
-  std::vector<ScanCluster> kept;
-  std::vector<int> new_id(n, -1);
-  for (size_t k = 0; k < n; ++k)
-    if (!gone[k]) {
-      new_id[k] = static_cast<int>(kept.size());
-      kept.push_back(std::move(clusters[k]));
+  drop_gone(clusters, label, gone, nullptr);
+}
+
+void join_across_support_plane(const Frame& f, std::vector<ScanCluster>& clusters,
+                               std::vector<int>& label, int step,
+                               const std::function<double(double z)>& tolerance,
+                               const std::function<void(ScanCluster&, int)>& refit,
+                               double min_coverage, std::vector<char>& joined,
+                               const OcclusionJoinParams& params) {
+  const size_t n = clusters.size();
+  joined.assign(n, 0);
+  if (n < 2 || !f.organized()) return;
+  std::vector<char> gone(n, 0);
+  for (size_t a = 0; a < n; ++a) {
+    if (gone[a] || clusters[a].shape.primitives.empty()) continue;
+    std::vector<int> lowest;  // a's, found once a pair asks
+    for (size_t b = 0; b < n; ++b) {
+      if (b == a || gone[b] || gone[a]) continue;
+      const ScanCluster& A = clusters[a];
+      const ScanCluster& B = clusters[b];
+      if (B.shape.primitives.empty() ||
+          A.shape.primitives[0].primitive.kind != B.shape.primitives[0].primitive.kind)
+        continue;
+      // A on a raised support (the camera stands less high above it), B on a lower one.
+      if (!(A.support.d < B.support.d) || A.support == B.support) continue;
+      if (lowest.empty()) lowest = lowest_per_column(f, A);
+      if (!right_under(f, lowest, static_cast<int>(b), label, step, tolerance)) continue;
+      ScanCluster joint;
+      joint.support = B.support;
+      joint.around = B.around;
+      joint.pixels = A.pixels;
+      joint.pixels.insert(joint.pixels.end(), B.pixels.begin(), B.pixels.end());
+      std::sort(joint.pixels.begin(), joint.pixels.end());
+      for (int i : A.pixels) label[static_cast<size_t>(i)] = static_cast<int>(b);
+      refit(joint, static_cast<int>(b));
+      const double worse = std::min(A.shape.fit, B.shape.fit);
+      const bool same =
+          !joint.shape.primitives.empty() &&
+          joint.shape.primitives[0].primitive.kind == B.shape.primitives[0].primitive.kind;
+      if (same && joint.shape.fit >= min_coverage &&
+          joint.shape.fit >= worse - params.coverage_slack) {
+        clusters[b] = std::move(joint);
+        joined[b] = 1;
+        gone[a] = 1;
+      } else {
+        for (int i : A.pixels) label[static_cast<size_t>(i)] = static_cast<int>(a);
+      }
     }
-  // Nothing joined: every index is its own.
-  if (kept.size() < n)
-    for (int& l : label)
-      if (l >= 0) l = new_id[l];
-  clusters = std::move(kept);
+  }
+  drop_gone(clusters, label, gone, &joined);
 }
 
 }  // namespace annex

@@ -3327,20 +3327,36 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
         },
         params.shape.min_coverage);
   }
+  // Pieces of one object either side of a raised support's plane become one on the
+  // lower support (occlusion_join.h); a stack found for the upper piece is void.
+  std::vector<char> joined_across(result.clusters.size(), 0);
+  if (params.join_across_supports) {
+    std::fill(label.begin(), label.end(), -1);
+    for (size_t c = 0; c < result.clusters.size(); ++c)
+      for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
+    join_across_support_plane(
+        f, result.clusters, label, stride, [&](double z) { return cluster_tolerance(params, z); },
+        [&](ScanCluster& sc, int id) {
+          std::vector<Vec3> n;
+          smooth_cluster(f, sc.pixels, label, id, params, sc.points, n);
+          sc.shape = recognize_object_shape(sc.points, n, sc.support, params.shape, sc.around);
+        },
+        params.shape.min_coverage, joined_across);
+  }
   // The shapes are fitted: the surface around each cluster served its fits alone, and the
   // result does not carry it.
   for (ScanCluster& sc : result.clusters) sc.around = {};
   if (!stacked.empty()) {
     // The label rebuilt above still holds when no pieces joined (a join removes one;
     // a rejected one gives its pixels back).
-    if (!params.join_occluded || result.clusters.size() != kept) {
+    if (!params.join_occluded || result.clusters.size() != kept || params.join_across_supports) {
       std::fill(label.begin(), label.end(), -1);
       for (size_t c = 0; c < result.clusters.size(); ++c)
         for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
     }
     for (const auto& [upper, lower] : stacked) {
       const int u = label[upper], l = label[lower];
-      if (u < 0 || l < 0 || u == l) continue;
+      if (u < 0 || l < 0 || u == l || joined_across[static_cast<size_t>(u)]) continue;
       // Merged pieces may close a loop (a on b on a): no stack is a loop.
       int at = l;
       for (size_t step = 0; at >= 0 && at != u && step < result.clusters.size(); ++step)

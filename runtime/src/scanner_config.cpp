@@ -158,6 +158,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"segment_enabled", Kind::flag, nullptr, nullptr, 0, &p.segment.enabled},
       {"stack_on_objects", Kind::flag, nullptr, nullptr, 0, &p.stack_on_objects},
       {"join_occluded", Kind::flag, nullptr, nullptr, 0, &p.join_occluded},
+      {"join_across_supports", Kind::flag, nullptr, nullptr, 0, &p.join_across_supports},
       {"segment_arm_m", Kind::positive, &p.segment.arm_m},
       {"segment_min_arm_px", Kind::positive, &p.segment.min_arm_px},
       {"segment_max_chord_slope", Kind::positive, &p.segment.max_chord_slope},

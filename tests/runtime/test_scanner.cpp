@@ -353,6 +353,8 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->dropout_join_to_floor, d.dropout_join_to_floor);
   EXPECT_EQ(p->fitted_foot_at_border, d.fitted_foot_at_border);
   EXPECT_EQ(p->seen_under_raised_bands, d.seen_under_raised_bands);
+  EXPECT_EQ(p->join_occluded, d.join_occluded);
+  EXPECT_EQ(p->join_across_supports, d.join_across_supports);
   EXPECT_EQ(p->touching_max_coverage, d.touching_max_coverage);
   EXPECT_EQ(p->touching_waist_share, d.touching_waist_share);
   EXPECT_EQ(p->touching_min_part_size_m, d.touching_min_part_size_m);

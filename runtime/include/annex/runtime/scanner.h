@@ -415,6 +415,11 @@ struct ScanParams {
   // Pieces of one shape either side of a nearer object, which one primitive explains
   // together, are one object seen past an occluder.
   bool join_occluded = true;
+  // Pieces of one shape either side of a raised support's plane, the upper on that
+  // support and the lower right under it in the image on a lower one, which one
+  // primitive explains together, are one object standing on the lower support (a bottle
+  // beside a box whose top is a support; occlusion_join.h, join_across_support_plane).
+  bool join_across_supports = true;
   // Objects with pixels within border_px of the image edge (cut by it; the edge of the
   // rows and columns that hold depth) or with fewer than min_whole_points pixels are
   // partial: reported, but they do not vote.
