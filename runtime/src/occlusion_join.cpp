@@ -59,21 +59,28 @@ std::vector<int> lowest_per_column(const Frame& f, const ScanCluster& c) {
 }
 
 // The cluster `b` (by label) lies right under the cluster whose lowest pixel per column
-// is `lowest`: in more than half of those columns (three at least) the first pixel with
-// depth one to three grid rows below is b's, within the tolerance of it in depth.
+// is `lowest`, standing on `plane`: in more than half of those columns (three at least)
+// the first pixel below with depth and out of the plane's band (`band`: no cluster's
+// pixels, some rows tall a metre away) is b's, within the tolerance plus the band's
+// height of it in depth.
 bool right_under(const Frame& f, const std::vector<int>& lowest, int b,
-                 const std::vector<int>& label, int step,
-                 const std::function<double(double z)>& tolerance) {
+                 const std::vector<int>& label, int step, const Plane& plane,
+                 const std::function<double(double z)>& tolerance,
+                 const std::function<double(double z)>& band) {
   const int count = static_cast<int>(f.points.size());
+  const double fy = grid_intrinsics(f).fy;
   int under = 0;
   for (int i : lowest) {
-    const double z = f.points[static_cast<size_t>(i)].z;
-    for (int r = 1; r <= 3; ++r) {
+    const double z = f.points[static_cast<size_t>(i)].z, band_m = band(z);
+    // Grid rows down: the band's two sides seen face-on, and three more.
+    const int rows = 3 + static_cast<int>(std::ceil(2 * band_m * fy / std::max(z, 0.1) / step));
+    for (int r = 1; r <= rows; ++r) {
       const int j = i + r * step * f.width;
       if (j >= count) break;
       const PointXYZRGB& q = f.points[static_cast<size_t>(j)];
       if (!(q.z > 0)) continue;  // a dropout: look one row on
-      under += label[static_cast<size_t>(j)] == b && std::abs(q.z - z) <= tolerance(z);
+      if (std::abs(dot(plane.normal, Vec3{q.x, q.y, q.z}) + plane.d) < band_m) continue;
+      under += label[static_cast<size_t>(j)] == b && std::abs(q.z - z) <= tolerance(z) + 2 * band_m;
       break;
     }
   }
@@ -184,6 +191,7 @@ void join_occluded_pieces(const Frame& f, std::vector<ScanCluster>& clusters,
 void join_across_support_plane(const Frame& f, std::vector<ScanCluster>& clusters,
                                std::vector<int>& label, int step,
                                const std::function<double(double z)>& tolerance,
+                               const std::function<double(double z)>& band,
                                const std::function<void(ScanCluster&, int)>& refit,
                                double min_coverage, std::vector<char>& joined,
                                const OcclusionJoinParams& params) {
@@ -204,7 +212,8 @@ void join_across_support_plane(const Frame& f, std::vector<ScanCluster>& cluster
       // A on a raised support (the camera stands less high above it), B on a lower one.
       if (!(A.support.d < B.support.d) || A.support == B.support) continue;
       if (lowest.empty()) lowest = lowest_per_column(f, A);
-      if (!right_under(f, lowest, static_cast<int>(b), label, step, tolerance)) continue;
+      if (!right_under(f, lowest, static_cast<int>(b), label, step, A.support, tolerance, band))
+        continue;
       ScanCluster joint;
       joint.support = B.support;
       joint.around = B.around;

@@ -3336,6 +3336,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
       for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
     join_across_support_plane(
         f, result.clusters, label, stride, [&](double z) { return cluster_tolerance(params, z); },
+        [&](double z) { return std::max(params.min_height_m, plane_band(params, z)); },
         [&](ScanCluster& sc, int id) {
           std::vector<Vec3> n;
           smooth_cluster(f, sc.pixels, label, id, params, sc.points, n);

@@ -71,6 +71,15 @@ TEST(OccludedPieces, ABottleBesideARaisedSupportIsOneObjectOnTheLowerOne) {
   // either way).
   EXPECT_EQ(scan_room(8036u, apart).pieces[static_cast<std::size_t>(t)],
             joined.pieces[static_cast<std::size_t>(t)] + 1);
+  // Fresh rooms 9528: a box 17 cm tall beside a board 10 cm above the table, the board's
+  // band 12 pixels tall between its pieces: one piece.
+  const RoomScan box = scan_room(9528u, ScanParams{});
+  const int b = find_object(box.scene, [](const SyntheticObject& o) {
+    return o.kind == ShapeKind::box && o.dimensions_m.at(2) > 0.15;
+  });
+  ASSERT_GE(b, 0) << "the generator no longer puts the tall box in 9528";
+  EXPECT_EQ(box.pieces[static_cast<std::size_t>(b)], 1);
+  EXPECT_EQ(scan_room(9528u, apart).pieces[static_cast<std::size_t>(b)], 2);
 }
 
 }  // namespace
