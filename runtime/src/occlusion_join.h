@@ -46,13 +46,13 @@ void join_occluded_pieces(const Frame& frame, std::vector<ScanCluster>& clusters
 // whose top is a support), is cut at that support's plane: its pixels above the plane
 // and within the raised support's hull are that support's candidates, those below the
 // lower one's. Two such pieces, the upper on a raised support and the lower right under
-// it in the image (in most of the upper's columns the first pixel below its lowest out of
-// the raised support's band, `band` at its depth, is the lower's, within `tolerance` plus
-// the band's height of it in depth), of one kind of shape
-// and explained by one primitive together (as join_occluded_pieces asks), are one object
-// standing on the lower support: joined there. `joined[c]`: the cluster c holds such a
-// joint object (its upper piece stood on nothing but that plane; a stack found for it
-// is void). refit(cluster, id) as for join_occluded_pieces.
+// it in the image (in most of the upper's columns the first pixel below its lowest out
+// of the raised support's band, `band` at its depth, is the lower's, within `tolerance`
+// plus the band's height of it in depth), of one kind of shape and explained by one
+// primitive together (as join_occluded_pieces asks), are one object standing on the
+// lower support: joined there. `joined[c]`: the cluster c holds such a joint object (its
+// upper piece stood on nothing but that plane; a stack found for it is void).
+// refit(cluster, id) as for join_occluded_pieces.
 void join_across_support_plane(const Frame& frame, std::vector<ScanCluster>& clusters,
                                std::vector<int>& label, int step,
                                const std::function<double(double z)>& tolerance,

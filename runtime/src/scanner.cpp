@@ -3328,7 +3328,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
         params.shape.min_coverage);
   }
   // Pieces of one object either side of a raised support's plane become one on the
-  // lower support (occlusion_join.h); a stack found for the upper piece is void.
+  // lower support (occlusion_join.h), which keeps the label it is given up to date; a
+  // stack found for the upper piece is void.
   std::vector<char> joined_across(result.clusters.size(), 0);
   if (params.join_across_supports) {
     std::fill(label.begin(), label.end(), -1);
@@ -3350,7 +3351,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   if (!stacked.empty()) {
     // The label rebuilt above still holds when no pieces joined (a join removes one;
     // a rejected one gives its pixels back).
-    if (!params.join_occluded || result.clusters.size() != kept || params.join_across_supports) {
+    if (!params.join_occluded || result.clusters.size() != kept) {
       std::fill(label.begin(), label.end(), -1);
       for (size_t c = 0; c < result.clusters.size(); ++c)
         for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);

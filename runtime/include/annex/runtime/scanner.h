@@ -245,11 +245,12 @@ struct ScanParams {
   // in that shadow and stays whole. Also counts such columns with the hidden ones in
   // hidden_foot_min_height_m's rule (furniture_rules.h, hangs_seen_under). false: off.
   bool partial_when_seen_under = true;
-  // ... and so is one the view just under which meets, in most columns, something
-  // farther standing higher above its support than this many of the support's bands at
-  // its depth: a body standing on its support hides its foot behind or under itself, so
-  // that view reaches the support first (furniture_rules.h, view_under_meets_raised; a
-  // shelf's board front showing the wall under it). 0: off.
+  // ... and so is one the view just under which meets, in most of the middle third of
+  // its columns, something behind the whole cluster standing higher above its support
+  // than this many of the support's bands at its depth: a body standing on its support
+  // hides its foot under its middle, so that view reaches the support first
+  // (furniture_rules.h, view_under_meets_raised; a shelf's board front showing the wall
+  // under it). 0: off.
   double seen_under_raised_bands = 2;
   // A cluster lying on the plane fitted to its support's own pixels around it (nine in
   // ten of its points within the support's band at their depth, min_height_m at least,
