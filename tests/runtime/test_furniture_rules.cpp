@@ -337,11 +337,11 @@ TEST(FurnitureRules, ABoardTheViewPassesUnderToTheWallIsPartial) {
 
 TEST(FurnitureRules, WhatTheViewUnderMeetsJustBehindOrBesideTheFootStaysWhole) {
   // Tuned 2031 and plain 6065 (world), rooms 5117 and fresh rooms 8087, 2.5 to 2.9 m away:
-  // a view under a cup's rim beside its foot passes on to the wall, and a frustum's rim
-  // fitted apart from its lower part shows that part just behind its own lowest point,
-  // 15 cm above the table. Asked over every column and of whatever lies farther than the
-  // lowest point, the rule flagged such objects partial; over the middle third, and of
-  // what lies behind the whole cluster, no true object is.
+  // asked over every column, or over the middle third, of whatever lies farther than the
+  // lowest point, the rule flagged their frustums, a cylinder and a box partial: just
+  // behind the lowest point lies what the object stands on or its own lower piece (6065: a
+  // frustum's lower part, fitted apart from its rim, 15 cm above the table). Asked of what
+  // lies behind the whole cluster, no true object is.
   ScanParams without;
   without.seen_under_raised_bands = 0;
   for (const auto& [seed, rooms] : {std::pair{2031u, false}, std::pair{6065u, false},
