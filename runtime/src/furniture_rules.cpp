@@ -87,6 +87,18 @@ bool top_cut_by_band(const Frame& f, const std::vector<int>& grid, int step, Vec
 
 namespace {
 
+// The first pixel with depth one to three grid rows on from pixel i (`row`: one grid row
+// in pixels, negative upwards; a dropout is looked past), -1 when none.
+int first_with_depth(const Frame& f, int i, int row) {
+  const int count = static_cast<int>(f.points.size());
+  for (int r = 1; r <= 3; ++r) {
+    const int j = i + r * row;
+    if (j < 0 || j >= count) return -1;
+    if (has_depth(f.points[static_cast<size_t>(j)])) return j;
+  }
+  return -1;
+}
+
 // What lies one to three grid rows beyond the cluster's end pixel in each of its grid
 // columns, above its top (`top`) or below its foot: the first valid pixel nearer to the
 // camera than that pixel by more than the tolerance, or farther by as much.
@@ -96,18 +108,12 @@ FootView end_view(const Frame& f, const std::vector<int>& grid, int step,
   FootView v;
   v.columns = static_cast<int>(ends.size());
   const int row = (top ? -step : step) * f.width;
-  const int count = static_cast<int>(f.points.size());
   for (const auto& [col, i] : ends) {
-    const double z = f.points[static_cast<size_t>(i)].z;
-    for (int r = 1; r <= 3; ++r) {
-      const int j = i + r * row;
-      if (j < 0 || j >= count) break;
-      const PointXYZRGB& q = f.points[static_cast<size_t>(j)];
-      if (!has_depth(q)) continue;  // a dropout: look one row on
-      v.nearer += q.z < z - tolerance(z);
-      v.farther += q.z > z + tolerance(z);
-      break;
-    }
+    const int j = first_with_depth(f, i, row);
+    if (j < 0) continue;
+    const double z = f.points[static_cast<size_t>(i)].z, qz = f.points[static_cast<size_t>(j)].z;
+    v.nearer += qz < z - tolerance(z);
+    v.farther += qz > z + tolerance(z);
   }
   return v;
 }
@@ -169,20 +175,15 @@ bool view_under_meets_raised(const Frame& f, const std::vector<int>& grid, int s
   // point), and a view beside the foot, under a cup's rim, may pass on past the support.
   const int span = ends.back().first - ends.front().first;
   const int lo = ends.front().first + span / 3, hi = ends.back().first - span / 3;
-  const int count = static_cast<int>(f.points.size());
   int raised = 0, middle = 0;
   for (const auto& [col, i] : ends) {
     if (col < lo || col > hi) continue;
     ++middle;
-    for (int r = 1; r <= 3; ++r) {
-      const int j = i + r * step * f.width;
-      if (j >= count) break;
-      const PointXYZRGB& q = f.points[static_cast<size_t>(j)];
-      if (!has_depth(q)) continue;  // a dropout: look one row on
-      const double h = dot(support.normal, at(f, j)) + support.d;
-      raised += q.z > far && h > bands * std::max(kFlatSurface, band(q.z));
-      break;
-    }
+    const int j = first_with_depth(f, i, step * f.width);
+    if (j < 0) continue;
+    const Vec3 q = at(f, j);
+    raised +=
+        q.z > far && dot(support.normal, q) + support.d > bands * std::max(kFlatSurface, band(q.z));
   }
   return middle >= 3 && 2 * raised > middle;
 }

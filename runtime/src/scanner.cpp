@@ -3329,12 +3329,15 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   }
   // Pieces of one object either side of a raised support's plane become one on the
   // lower support (occlusion_join.h), which keeps the label it is given up to date; a
-  // stack found for the upper piece is void.
+  // stack found for the upper piece is void. The label is current when the occluded
+  // pieces' join ran (it is rebuilt for it above, and kept since).
   std::vector<char> joined_across(result.clusters.size(), 0);
   if (params.join_across_supports) {
-    std::fill(label.begin(), label.end(), -1);
-    for (size_t c = 0; c < result.clusters.size(); ++c)
-      for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
+    if (!params.join_occluded) {
+      std::fill(label.begin(), label.end(), -1);
+      for (size_t c = 0; c < result.clusters.size(); ++c)
+        for (int i : result.clusters[c].pixels) label[i] = static_cast<int>(c);
+    }
     join_across_support_plane(
         f, result.clusters, label, stride, [&](double z) { return cluster_tolerance(params, z); },
         [&](double z) { return std::max(params.min_height_m, plane_band(params, z)); },
