@@ -253,6 +253,22 @@ std::optional<Vec3> upright_panel(const Frame& f, const std::vector<int>& grid, 
   return Vec3{n.x(), n.y(), n.z()};
 }
 
+bool foot_behind_higher_support(const Frame& f, const std::vector<int>& grid, int step,
+                                const std::vector<int>& surface_of,
+                                const std::function<bool(int)>& higher,
+                                const ToleranceAt& tolerance) {
+  const std::vector<std::pair<int, int>> ends = end_per_column(f, grid, false);
+  size_t hidden = 0;
+  for (const auto& [col, i] : ends) {
+    const int j = first_with_depth(f, i, step * f.width);
+    if (j < 0) continue;
+    const double z = f.points[static_cast<size_t>(i)].z;
+    const int o = surface_of[static_cast<size_t>(j)];
+    hidden += f.points[static_cast<size_t>(j)].z < z - tolerance(z) && o >= 0 && higher(o);
+  }
+  return ends.size() >= 3 && 2 * hidden > ends.size();
+}
+
 bool foot_unseen(const Frame& f, const std::vector<int>& grid, int step,
                  const std::vector<int>& surface_of, int support) {
   const std::vector<std::pair<int, int>> ends = end_per_column(f, grid, false);

@@ -108,6 +108,19 @@ bool view_under_meets_raised(const Frame& f, const std::vector<int>& grid, int s
                              const Plane& support, double bands, const ToleranceAt& tolerance,
                              const ToleranceAt& band);
 
+// Whether a higher support's top, nearer, hides the cluster's foot: in more than half of
+// its grid columns the first valid pixel one to three grid rows below its lowest pixel is
+// nearer than that pixel by more than the tolerance and lies on the surface region of a
+// support for which `higher` holds (`surface_of` as for foot_unseen). No one sees where
+// what stands behind a table's or a cabinet's top ends below it: a shelf's board or side
+// behind the table (rooms 5105, fresh rooms 9810), a box on the floor behind a cabinet
+// (fresh rooms 9580). A prop behind a nearer prop has that prop, no support's surface, in
+// front of its foot (foot_hidden_high's rule).
+bool foot_behind_higher_support(const Frame& f, const std::vector<int>& grid, int step,
+                                const std::vector<int>& surface_of,
+                                const std::function<bool(int)>& higher,
+                                const ToleranceAt& tolerance);
+
 // Whether the cluster's foot is not seen on its support: in more than half of the grid
 // columns that show anything below its lowest pixel, the first valid pixel one to three
 // grid rows below is no point of its support's surface region (`surface_of`: the

@@ -3086,6 +3086,14 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // Its foot hidden at furniture height: no one sees what holds it up (a seat behind
     // its back).
     const bool foot_hidden = foot_hidden_high(f, grid, stride, bottom_h, params, tolerance);
+    // Or, standing off its support's plane, its foot hidden by a higher support's top in
+    // front: no one sees where it ends either (asked only when no rule above has).
+    const auto foot_behind_higher = [&] {
+      return params.partial_when_foot_behind_higher && bottom_h > plane_band(params, low.z) &&
+             foot_behind_higher_support(
+                 f, grid, stride, surface_of,
+                 [&](int o) { return found[static_cast<size_t>(o)].plane.d < plane.d; }, tolerance);
+    };
     // One upright flat face whose foot is not on its support (a chair's back rising
     // behind the table, a cabinet's side): neither its depth nor its foot is seen.
     // Or one as wide as the raised support it stands on (a chair's back on its seat).
@@ -3115,7 +3123,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // hides it: it stands lower, behind the edge, its foot unseen (asked only when no rule
     // above has flagged it).
     const bool unseen =
-        top_hidden || panel || foot_hidden || hanging || at_far_edge() ||
+        top_hidden || panel || foot_hidden || hanging || at_far_edge() || foot_behind_higher() ||
         (around && runs_below_support(f, grid, stride, *around, surface_of, k, params));
     accepted.push_back({&grid, k, min_points, unseen});
   }

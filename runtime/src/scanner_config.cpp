@@ -107,6 +107,8 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"support_edge_m", Kind::non_negative, &p.support_edge_m},
       {"partial_when_top_hidden", Kind::flag, nullptr, nullptr, 0, &p.partial_when_top_hidden},
       {"hidden_foot_min_height_m", Kind::non_negative, &p.hidden_foot_min_height_m},
+      {"partial_when_foot_behind_higher", Kind::flag, nullptr, nullptr, 0,
+       &p.partial_when_foot_behind_higher},
       {"partial_when_seen_under", Kind::flag, nullptr, nullptr, 0, &p.partial_when_seen_under},
       {"seen_under_raised_bands", Kind::non_negative, &p.seen_under_raised_bands},
       {"support_slab_check", Kind::flag, nullptr, nullptr, 0, &p.support_slab_check},

@@ -250,8 +250,10 @@ TEST(FurnitureRules, ASeatSeenBehindItsBackIsPartial) {
   const std::vector<std::uint64_t> seeds{5029u, 5030u, 5076u, 5110u};
   ScanParams without;
   without.hidden_foot_min_height_m = 0;
-  // One seat's fitted box runs off the image's edge (session 32's rule): off too.
+  // One seat's fitted box runs off the image's edge (session 32's rule), and the table's
+  // top in front hides another's foot (session 33's): off too.
   without.fitted_foot_at_border = false;
+  without.partial_when_foot_behind_higher = false;
   const Seen on = scan_seeds(seeds, true, kLabelBackChair, ScanParams{}, true);
   const Seen off = scan_seeds(seeds, true, kLabelBackChair, without, true);
   EXPECT_EQ(on.whole, 0);
@@ -332,6 +334,20 @@ TEST(FurnitureRules, ABoardTheViewPassesUnderToTheWallIsPartial) {
   const Seen off = scan_seeds({9518u}, true, kLabelShelf, without, true);
   EXPECT_EQ(on.whole, 0);
   EXPECT_GE(off.whole, 1);
+  EXPECT_EQ(on.found, off.found);
+}
+
+TEST(FurnitureRules, AShelfPieceWhoseFootATableHidesIsPartial) {
+  // Rooms 5105 and fresh rooms 9810 (session 33): a shelf's piece 2 m away behind the
+  // table, its lowest point 4 and 21 cm above its support, reported whole (a box and a
+  // cylinder). Under most of its columns the table's top, nearer, hides its foot: no one
+  // sees where it ends (partial_when_foot_behind_higher).
+  ScanParams without;
+  without.partial_when_foot_behind_higher = false;
+  const Seen on = scan_seeds({5105u, 9810u}, true, kLabelShelf, ScanParams{}, true);
+  const Seen off = scan_seeds({5105u, 9810u}, true, kLabelShelf, without, true);
+  EXPECT_EQ(on.whole, 0);
+  EXPECT_EQ(off.whole, 2);
   EXPECT_EQ(on.found, off.found);
 }
 

@@ -237,6 +237,11 @@ struct ScanParams {
   // prop behind a nearer one shows its upper part from lower down (furniture_rules.h,
   // foot_hidden_high). 0: off.
   double hidden_foot_min_height_m = 0.3;
+  // ... and at any height above its support's band when what hides its foot is a higher
+  // support's top (furniture_rules.h, foot_behind_higher_support): a shelf's board or
+  // side behind the table, a box on the floor behind a cabinet. A prop behind a prop
+  // keeps the 0.3 above. false: off.
+  bool partial_when_foot_behind_higher = true;
   // A cluster the view passes under (below its lowest pixel, in most of its columns, lies
   // something farther) whose lowest point is higher above its support than its own
   // shadow along the view reaches (its width times the view's slope there) is flagged
