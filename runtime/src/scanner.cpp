@@ -3254,7 +3254,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   };
   const TouchingSplitParams touching{.max_whole_coverage = params.touching_max_coverage,
                                      .min_part_size_m = params.touching_min_part_size_m,
-                                     .waist_share = params.touching_waist_share};
+                                     .waist_share = params.touching_waist_share,
+                                     .misfit_cut = params.touching_misfit_cut};
   std::vector<std::optional<TouchingCut>> cuts(clusters.size());
   parallel_for(clusters.size(), [&](size_t c) {
     ScanCluster& sc = result.clusters[c];

@@ -185,6 +185,25 @@ double surface_distance(const ShapeFit& fit, Vec3 p) {
   return 1e9;
 }
 
+// The radius of a fitted primitive's footprint on its support: the widest of its round
+// sections, a box's half diagonal.
+double footprint_radius(const ShapeFit& fit) {
+  const PhysicalPrimitive& q = fit.primitive;
+  const auto dim = [&](size_t k) { return k < q.dimensions_m.size() ? q.dimensions_m[k] : 0.0; };
+  switch (q.kind) {
+    case ShapeKind::cone:
+      return std::max(dim(0), q.narrow_radius_m);
+    case ShapeKind::torus:
+      return dim(0) + dim(1);
+    case ShapeKind::box:
+      return 0.5 * std::hypot(dim(0), dim(1));
+    case ShapeKind::plane:
+      return 0;
+    default:
+      return dim(0);
+  }
+}
+
 // Whether what the cluster's shape leaves out lies on one side of the cut: one primitive
 // over two bodies explains one and leaves the other out (at least two thirds of the
 // pixels it leaves out on one side), while one object's misfit (a carton's open flaps,
@@ -254,23 +273,29 @@ bool both_recognised(const FitTerms& a, const FitTerms& b, double least) {
   return a.recognised && b.recognised && a.coverage >= least && b.coverage >= least;
 }
 
-}  // namespace
+// The pixels the cluster's own shape leaves out, beyond its tolerance at their depth, as
+// a cut's side (1): one primitive over two bodies explains one and leaves the other out.
+std::vector<char> misfit_side(const Frame& f, const ScanCluster& c,
+                              const ShapeRecognizerParams& shape) {
+  const ShapeFit* fit = fit_of(c);
+  if (!fit) return {};
+  std::vector<char> side(c.pixels.size(), 0);
+  for (size_t k = 0; k < side.size(); ++k) {
+    const PointXYZRGB& p = f.points[static_cast<size_t>(c.pixels[k])];
+    const double tol = std::max(shape.min_tolerance_m, shape.noise_factor * kinect_sigma_z(p.z));
+    side[k] = surface_distance(*fit, Vec3{p.x, p.y, p.z}) > tol;
+  }
+  return side;
+}
 
-std::optional<TouchingCut> touching_cut(
-    const Frame& f, const ScanCluster& cluster,
+// The cut of `cluster` along `side`, its parts refitted, then once more with each pixel
+// given to the nearer of the two fitted surfaces; kept when both parts are explained and
+// two primitives beat one by the criterion. `least`: the smaller part's fewest pixels.
+std::optional<TouchingCut> refit_cut(
+    const Frame& f, const ScanCluster& cluster, const std::vector<char>& side,
+    const FitTerms& whole, double least,
     const std::function<void(ScanCluster&, std::vector<Vec3>&)>& refit,
-    const std::function<bool(const ScanCluster&)>& seen_whole, const ShapeRecognizerParams& shape,
-    const TouchingSplitParams& params) {
-  const FitTerms whole = terms_of(f, cluster);
-  if (whole.coverage >= params.max_whole_coverage || !seen_whole(cluster)) return std::nullopt;
-  const int min_points = min_part_pixels(params.min_part_size_m, whole.depth, whole.focal_px);
-  const MeansCut means = two_means(f, cluster, params.min_part_share, min_points);
-  const std::vector<char>& side = means.side;
-  if (side.empty()) return std::nullopt;
-  const auto narrows = [&] {
-    return params.waist_share > 0 && footprint_waist(means, params.waist_share);
-  };
-  if (!misfit_on_one_side(f, cluster, side, shape) && !narrows()) return std::nullopt;
+    const ShapeRecognizerParams& shape, const TouchingSplitParams& params) {
   // The parts take no free-space test (ScanCluster::around): the support seen around
   // the whole is not what is seen around each, and the upper of two stacked bodies
   // stands on the lower.
@@ -298,8 +323,6 @@ std::optional<TouchingCut> touching_cut(
                           surface_distance(a.shape.primitives.front(), v);
     (nearer_b ? b2 : a2).pixels.push_back(i);
   }
-  const double least = std::max(params.min_part_share * static_cast<double>(cluster.pixels.size()),
-                                static_cast<double>(min_points));
   const auto smaller = static_cast<double>(std::min(a2.pixels.size(), b2.pixels.size()));
   if (smaller >= least && a2.pixels != a.pixels) {
     std::vector<Vec3> na2, nb2;
@@ -313,9 +336,46 @@ std::optional<TouchingCut> touching_cut(
       recognised = true;
     }
   }
-  if (!recognised) return std::nullopt;
-  if (!(k.two < k.one)) return std::nullopt;
+  if (!recognised || !(k.two < k.one)) return std::nullopt;
+  // Two bodies stand side by side: their centres lie apart on the support by at least
+  // half their footprints' radii together (touching, by the sum). One object's misfit,
+  // refitted apart, gives two solids round one axis (rooms 5026's flat bowl at 0.98 m as a
+  // cone and a cylinder, their centres 0.5 cm apart).
+  const ShapeFit &fa = a.shape.primitives.front(), &fb = b.shape.primitives.front();
+  const Vec3 n = cluster.support.normal, apart = fa.primitive.center - fb.primitive.center;
+  if (norm(apart - n * dot(n, apart)) < 0.5 * (footprint_radius(fa) + footprint_radius(fb)))
+    return std::nullopt;
   return TouchingCut{std::move(a), std::move(b), std::move(na), std::move(nb)};
+}
+
+}  // namespace
+
+std::optional<TouchingCut> touching_cut(
+    const Frame& f, const ScanCluster& cluster,
+    const std::function<void(ScanCluster&, std::vector<Vec3>&)>& refit,
+    const std::function<bool(const ScanCluster&)>& seen_whole, const ShapeRecognizerParams& shape,
+    const TouchingSplitParams& params) {
+  const FitTerms whole = terms_of(f, cluster);
+  if (whole.coverage >= params.max_whole_coverage || !seen_whole(cluster)) return std::nullopt;
+  const int min_points = min_part_pixels(params.min_part_size_m, whole.depth, whole.focal_px);
+  const double least = std::max(params.min_part_share * static_cast<double>(cluster.pixels.size()),
+                                static_cast<double>(min_points));
+  const MeansCut means = two_means(f, cluster, params.min_part_share, min_points);
+  const auto narrows = [&] {
+    return params.waist_share > 0 && footprint_waist(means, params.waist_share);
+  };
+  if (!means.side.empty() && (misfit_on_one_side(f, cluster, means.side, shape) || narrows()))
+    if (std::optional<TouchingCut> cut =
+            refit_cut(f, cluster, means.side, whole, least, refit, shape, params))
+      return cut;
+  // The means' cut halves the larger body when the two differ in size (fresh rooms 9571:
+  // a flat bowl against a box of twice its pixels, each half unexplained): the cut along
+  // what the one primitive leaves out, when that is a body's worth of pixels.
+  if (!params.misfit_cut) return std::nullopt;
+  const std::vector<char> left_out = misfit_side(f, cluster, shape);
+  const auto out = static_cast<double>(std::count(left_out.begin(), left_out.end(), 1));
+  if (std::min(out, static_cast<double>(left_out.size()) - out) < least) return std::nullopt;
+  return refit_cut(f, cluster, left_out, whole, least, refit, shape, params);
 }
 
 }  // namespace annex

@@ -37,6 +37,10 @@ struct TouchingSplitParams {
   // width at the narrower one (ScanParams::touching_waist_share; a convex body's
   // footprint never narrows between two of its points); 0: the one-side test alone.
   double waist_share = 0.7;
+  // When the means' cut is not kept, the cut along what the cluster's one primitive
+  // leaves out is tried (ScanParams::touching_misfit_cut): the means halve the larger of
+  // two bodies that differ in size.
+  bool misfit_cut = true;
 };
 
 // The cut of one cluster, when it is worth it: its two parts, fitted, and their normals.

@@ -412,6 +412,10 @@ struct ScanParams {
   // two of its points, two touching ones narrow to their contact. 0: the one-side test
   // alone.
   double touching_waist_share = 0.7;
+  // ... and when that cut is not kept, cut along what the one primitive leaves out (the
+  // means halve the larger of two bodies that differ in size: a flat bowl against a box
+  // of twice its pixels). false: the means' cut alone.
+  bool touching_misfit_cut = true;
   // Each of the two parts shows at least the pixels of a body this wide at its depth
   // (the disc it spans in the image): the smallest object reported, whose pixel count
   // falls with the square of its depth.
