@@ -204,6 +204,13 @@ double footprint_radius(const ShapeFit& fit) {
   }
 }
 
+// Whether the fit leaves pixel p out: farther from its surface than the tolerance at p's
+// depth.
+bool left_out_by(const ShapeFit& fit, const PointXYZRGB& p, const ShapeRecognizerParams& shape) {
+  const double tol = std::max(shape.min_tolerance_m, shape.noise_factor * kinect_sigma_z(p.z));
+  return surface_distance(fit, Vec3{p.x, p.y, p.z}) > tol;
+}
+
 // Whether what the cluster's shape leaves out lies on one side of the cut: one primitive
 // over two bodies explains one and leaves the other out (at least two thirds of the
 // pixels it leaves out on one side), while one object's misfit (a carton's open flaps,
@@ -215,9 +222,7 @@ bool misfit_on_one_side(const Frame& f, const ScanCluster& c, const std::vector<
   double out[2] = {0, 0};
   const size_t stride = std::max<size_t>(1, side.size() / 2000);  // an even subsample
   for (size_t k = 0; k < side.size(); k += stride) {
-    const PointXYZRGB& p = f.points[static_cast<size_t>(c.pixels[k])];
-    const double tol = std::max(shape.min_tolerance_m, shape.noise_factor * kinect_sigma_z(p.z));
-    out[side[k] ? 1 : 0] += surface_distance(*fit, Vec3{p.x, p.y, p.z}) > tol;
+    out[side[k] ? 1 : 0] += left_out_by(*fit, f.points[static_cast<size_t>(c.pixels[k])], shape);
   }
   return 3 * std::max(out[0], out[1]) >= 2 * (out[0] + out[1]);
 }
@@ -280,11 +285,8 @@ std::vector<char> misfit_side(const Frame& f, const ScanCluster& c,
   const ShapeFit* fit = fit_of(c);
   if (!fit) return {};
   std::vector<char> side(c.pixels.size(), 0);
-  for (size_t k = 0; k < side.size(); ++k) {
-    const PointXYZRGB& p = f.points[static_cast<size_t>(c.pixels[k])];
-    const double tol = std::max(shape.min_tolerance_m, shape.noise_factor * kinect_sigma_z(p.z));
-    side[k] = surface_distance(*fit, Vec3{p.x, p.y, p.z}) > tol;
-  }
+  for (size_t k = 0; k < side.size(); ++k)
+    side[k] = left_out_by(*fit, f.points[static_cast<size_t>(c.pixels[k])], shape);
   return side;
 }
 
@@ -395,7 +397,7 @@ std::optional<TouchingCut> touching_cut(
       return cut;
   // The means' cut halves the larger body when the two differ in size (fresh rooms 9571:
   // a flat bowl against a box of twice its pixels, each half unexplained): the cut along
-  // what the one primitive leaves out, when that is a body's worth of pixels.
+  // what the one primitive leaves out, when that is a body's worth of pixels beside it.
   if (!params.misfit_cut) return std::nullopt;
   const std::vector<char> left_out = misfit_side(f, cluster, shape);
   const auto out = static_cast<double>(std::count(left_out.begin(), left_out.end(), 1));

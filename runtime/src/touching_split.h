@@ -9,7 +9,10 @@
 // information criterion: the residuals in units of the Kinect's axial noise at their
 // depth, a point the fit leaves out costing as much as one at the fit's tolerance,
 // against ln(n) per parameter (each part's shape and the cut's two) over the
-// independent points. Private to the scanner.
+// independent points. When that cut is not kept (the means halve the larger of two
+// bodies that differ in size), the cluster is cut along what the one primitive leaves
+// out, when that lies beside it. Either cut is kept only when the two parts stand side
+// by side, not round one axis. Private to the scanner.
 
 #include <functional>
 #include <optional>
