@@ -2970,10 +2970,18 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // it (a top seen from above). When something stands on that support, the body is
     // furniture, not a prop: a prop is what stands on it. One with nothing on it (a
     // storage box), or lower than furniture (a box with a can on it), stays an object.
+    // Lower, a body is a board (a shelf's lowest, on side panels outside the cluster)
+    // when its lower half is unseen and the view passes under it: a box with a can on
+    // it shows its front down to its own support.
+    const auto board = [&] {
+      if (!params.board_when_seen_under || reaches_support) return false;
+      const FootView v = foot_view(f, grid, stride, tolerance);
+      return v.columns >= 3 && 2 * v.farther > v.columns;
+    };
     bool body = false;
     for (size_t o = 0; o < ns && !body; ++o) {
       if (static_cast<int>(o) == k || !holds[o] || found[o].plane.d >= plane.d) continue;
-      if (plane.d - found[o].plane.d < params.furniture_min_height_m) continue;
+      if (plane.d - found[o].plane.d < params.furniture_min_height_m && !board()) continue;
       size_t on_top = 0, at_height = 0;
       for (int i : grid) {
         const Vec3 p = to_vec(f.points[i]);

@@ -101,6 +101,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"leg_top_reach_m", Kind::non_negative, &p.leg_top_reach_m},
       {"top_look_noise_sigmas", Kind::non_negative, &p.top_look_noise_sigmas},
       {"furniture_min_height_m", Kind::non_negative, &p.furniture_min_height_m},
+      {"board_when_seen_under", Kind::flag, nullptr, nullptr, 0, &p.board_when_seen_under},
       {"on_top_noise_factor", Kind::non_negative, &p.on_top_noise_factor},
       {"furniture_min_width_m", Kind::non_negative, &p.furniture_min_width_m},
       {"min_stand_ratio", Kind::non_negative, &p.min_stand_ratio},

@@ -199,6 +199,11 @@ struct ScanParams {
   // stands at least this far above the body's own support: furniture rises to a
   // working height, while a box a can stands on is a prop of hand size (stacking).
   double furniture_min_height_m = 0.3;
+  // ... or at any height when the body's lower half is unseen and the view passes under
+  // it (the first pixel below its lowest one farther, in most of its columns): a shelf's
+  // lowest board 25 cm up on side panels outside the cluster (fresh rooms 9920, 10069).
+  // A box a can stands on shows its front down to its own support. false: off.
+  bool board_when_seen_under = true;
   // So is a body rising that far whose top is no support found (a cabinet seen level,
   // its top at a grazing angle) when a cluster on the same support has its lowest point
   // at that top's height, within this many cluster tolerances (the noise of either),
