@@ -141,6 +141,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"shape_min_cone_taper", Kind::unit_share, &p.shape.min_cone_taper},
       {"shape_cone_taper_doubt", Kind::non_negative, &p.shape.cone_taper_doubt},
       {"shape_flat_cone_sides", Kind::flag, nullptr, nullptr, 0, &p.shape.flat_cone_sides},
+      {"shape_lid_spread_sigmas", Kind::non_negative, &p.shape.lid_spread_sigmas},
       {"shape_min_secondary_share", Kind::unit_share, &p.shape.min_secondary_share},
       {"shape_side_shape_penalty", Kind::unit_share, &p.shape.side_shape_penalty},
       {"shape_sphere_cap_depth_share", Kind::non_negative, &p.shape.sphere_cap_depth_share},

@@ -5,6 +5,8 @@
 // candidate and came out unknown (8099 since session 17: its cone ran off, see below).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -114,6 +116,77 @@ TEST(ShapeFlatCone, AFlatTinAndAFlatBoxStayWhatTheyAre) {
                                 {shape(ShapeKind::box, {0.2, 0.2, 0.03}), 0.8, 45}};
   EXPECT_EQ(read_as(ShapeKind::cylinder, tins, kScenes, true), 2 * kScenes);
   EXPECT_EQ(read_as(ShapeKind::box, boxes, kScenes, true), 2 * kScenes);
+}
+
+// Truth cones widening upward (bowls, frustums apex down) 1.5 to 2.5 m deep in each
+// seed's scene (rooms or world_scene_params), and how many of them read as cones.
+struct Bowls {
+  int seen = 0, cones = 0;
+};
+Bowls bowls_read_as_cones(const std::vector<std::pair<std::uint64_t, bool>>& seeds,
+                          const ScanParams& params) {
+  Bowls b;
+  for (const auto& [seed, rooms] : seeds) {
+    const Result<SyntheticScene> s =
+        generate_scene(rooms ? room_scene_params(seed) : world_scene_params(seed));
+    EXPECT_TRUE(s.ok()) << seed;
+    if (!s) continue;
+    const SyntheticFrame f = render_scene(*s);
+    const Result<ScanResult> scan = scan_frame(f.frame, params);
+    EXPECT_TRUE(scan.ok()) << seed;
+    if (!scan) continue;
+    for (std::size_t k = 0; k < scan->clusters.size(); ++k) {
+      const int t = majority_label(f, scan->clusters[k]);
+      if (t < 0 || scan->scene.objects[k].partial) continue;
+      const SyntheticObject& truth = s->objects[static_cast<std::size_t>(t)];
+      const double z = table_to_camera_point(*s, truth.center).z;
+      if (truth.kind != ShapeKind::cone || !truth.apex_down || z < 1.5 || z > 2.5) continue;
+      ++b.seen;
+      const PhysicalObject& o = scan->scene.objects[k];
+      b.cones += !o.primitives.empty() && o.primitives[0].kind == ShapeKind::cone;
+    }
+  }
+  return b;
+}
+
+TEST(ShapeLid, ABowlsTopIsItsLidNotItsNoisiestPoints) {
+  // Held-out 5045, unseen 3026, fresh rooms 8029 and 9564 (session 34): bowls and
+  // frustums widening up, 1.5 to 2.4 m away, read as cylinders. The cylinder's top was
+  // its side's 98 % height, which the noise lifts above the rim, and the cone's its
+  // points' 99 %: on a flat bowl those tops miss the lid by a centimetre. The lid's
+  // median height, the cap flat to the noise, sets both (shape_lid_spread_sigmas).
+  const std::vector<std::pair<std::uint64_t, bool>> seeds{
+      {5045u, false}, {3026u, false}, {8029u, true}, {9564u, true}};
+  ScanParams off;
+  off.shape.lid_spread_sigmas = 0;
+  const Bowls on_b = bowls_read_as_cones(seeds, ScanParams{});
+  const Bowls off_b = bowls_read_as_cones(seeds, off);
+  EXPECT_EQ(on_b.seen, off_b.seen);
+  EXPECT_GE(on_b.seen, 3);  // 9564's bowl lies at 1.5 m range, nearer along the axis
+  EXPECT_EQ(on_b.cones, on_b.seen);
+  EXPECT_EQ(off_b.cones, 0);
+}
+
+TEST(ShapeLid, AFlatTinsHeightIsItsLids) {
+  // A tin 10 cm in radius and 4 cm tall, 2.4 m away seen from 30 degrees above: its
+  // height within 3 mm, where the side's 98 % height overshoots by about twice the noise.
+  constexpr int kScenes = 5;
+  ScanParams off;
+  off.shape.lid_spread_sigmas = 0;
+  double on_error = 0, off_error = 0;
+  for (int seed = 1; seed <= kScenes; ++seed) {
+    const SyntheticObject tin = shape(ShapeKind::cylinder, {0.10, 0.04});
+    const std::optional<PhysicalObject> on =
+        scan_one(tin, 2.4, 30, static_cast<std::uint64_t>(seed), ScanParams{});
+    const std::optional<PhysicalObject> without =
+        scan_one(tin, 2.4, 30, static_cast<std::uint64_t>(seed), off);
+    ASSERT_TRUE(on && !on->primitives.empty() && without && !without->primitives.empty());
+    ASSERT_EQ(on->primitives[0].kind, ShapeKind::cylinder) << seed;
+    on_error += std::abs(on->primitives[0].dimensions_m[1] - 0.04) / kScenes;
+    off_error += std::abs(without->primitives[0].dimensions_m[1] - 0.04) / kScenes;
+  }
+  EXPECT_LT(on_error, 0.003);
+  EXPECT_LT(on_error, off_error);
 }
 
 }  // namespace

@@ -56,10 +56,14 @@ TEST(ShapeFreeSpace, DarkCupWideningUpIsAFrustumOnTheFootTheTableLeavesFree) {
 }
 
 TEST(ShapeFreeSpace, WithoutTheTestTheDarkCupIsTheCylinderOfItsRim) {
-  // The case the test is for: the points alone do not tell the cup from a tin.
+  // The case the test is for: the points alone do not tell the cup from a tin. Since
+  // session 34 they do at 1.2 m when its lid sets its top (shape_lid_spread_sigmas: the
+  // frustum no longer reaches above the lid by the noise): off here.
+  ScanParams without = without_free_space();
+  without.shape.lid_spread_sigmas = 0;
   for (const auto& [distance, tilt] : kSteepViews) {
     const std::optional<PhysicalObject> o =
-        scan_one(dark(cup(0.061, 0.097, 0.037)), distance, tilt, 11, without_free_space());
+        scan_one(dark(cup(0.061, 0.097, 0.037)), distance, tilt, 11, without);
     ASSERT_TRUE(o && !o->primitives.empty()) << distance;
     EXPECT_EQ(o->primitives[0].kind, ShapeKind::cylinder)
         << distance << " m, " << tilt << " degrees";

@@ -45,6 +45,15 @@ struct ShapeRecognizerParams {
   // Its axis then comes from the footprint's outline when the upright cylinder, the
   // cone's start, finds no side either.
   bool flat_cone_sides = true;
+  // An upright cylinder's top is its cap's median height when the cap (points inside
+  // its circle facing up) lies above its side's middle and is flat to the noise: its
+  // heights' interquartile range within this many sigma of the height noise (sigma_z
+  // times the ray's slope; 1.35 unsmoothed, less smoothed). A lid seen from above, as a
+  // box's top face sets the box's height; bags in a box spread 2.4 sigma and more
+  // (nyu_basement). Else its side's 98 % height, which the depth noise lifts above the
+  // rim by two sigma (5 mm of a flat tin's 4 cm at 2.4 m). A frustum widening up to
+  // that lid ends there too. 0: off (before session 34).
+  double lid_spread_sigmas = 2.0;
   // A secondary primitive must explain this share of the points the salient one misses
   // and at least this share of all points.
   double min_secondary_share = 0.12;
