@@ -2335,11 +2335,15 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
 
   std::optional<ShapeFit> second;
   // A body cylinder plus a neck can explain a bottle better than one cone through
-  // both: prefer the pair when it covers clearly more.
+  // both: prefer the pair when it covers clearly more. Their coverages are shares of the
+  // points, which may count a point twice: the pair covers at most all of them, so a
+  // cone explaining every point keeps it (fresh rooms 9882: a bowl 2.4 m away, its
+  // cylinder 86 % and its rim as a "neck" 23 %, against the cone's 100 %).
   if (best >= 0 && cands[best].model == Model::cone && cands[0].valid &&
       cands[0].model == Model::cylinder) {
     std::optional<ShapeFit> neck = secondary(cands[0]);
-    if (neck && cands[0].coverage + neck->coverage > cands[best].coverage + 2 * params.complexity_margin) {
+    if (neck && std::min(1.0, cands[0].coverage + neck->coverage) >
+                    cands[best].coverage + 2 * params.complexity_margin) {
       best = 0;
       second = neck;
     }
