@@ -132,8 +132,7 @@ bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
 
 bool top_seen_ending(const Frame& f, const std::vector<int>& grid, int step,
                      const ToleranceAt& tolerance) {
-  const FootView v = end_view(f, grid, step, tolerance, true);
-  return v.columns >= 3 && 2 * v.farther > v.columns;
+  return seen_past(end_view(f, grid, step, tolerance, true));
 }
 
 bool foot_hidden_high(const Frame& f, const std::vector<int>& grid, int step, double bottom_h,
@@ -150,14 +149,17 @@ FootView foot_view(const Frame& f, const std::vector<int>& grid, int step, const
   return end_view(f, grid, step, tolerance, false);
 }
 
+bool seen_past(const FootView& v) {
+  return v.columns >= 3 && 2 * v.farther > v.columns;
+}
+
 bool hangs_seen_under(const Frame& f, const std::vector<int>& grid, int step, Vec3 n, double d, Vec3 low,
                       double low_h, double width, const ToleranceAt& tolerance) {
   // The view's slope at the lowest point: the camera's height over the support less the
   // point's, over the point's run along the plane from the camera's foot.
   const double run = norm(low - n * dot(n, low));
   if (!(run > 0) || !(low_h > width * (d - low_h) / run)) return false;
-  const FootView v = foot_view(f, grid, step, tolerance);
-  return v.columns >= 3 && 2 * v.farther > v.columns;
+  return seen_past(foot_view(f, grid, step, tolerance));
 }
 
 bool view_under_meets_raised(const Frame& f, const std::vector<int>& grid, int step,

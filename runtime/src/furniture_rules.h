@@ -78,6 +78,10 @@ struct FootView {
 };
 FootView foot_view(const Frame& f, const std::vector<int>& grid, int step, const ToleranceAt& tolerance);
 
+// Whether the view passes on beyond the cluster's end, to something farther, in more
+// than half of its columns (at least three).
+bool seen_past(const FootView& v);
+
 // Whether the cluster hangs over its support with nothing of its own under it: the view
 // passes under it (the first valid pixel below its lowest one lies farther, foot_view, in
 // more than half of its grid columns) and its lowest point `low`, `low_h` above the

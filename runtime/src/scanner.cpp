@@ -2974,9 +2974,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // when its lower half is unseen and the view passes under it: a box with a can on
     // it shows its front down to its own support.
     const auto board = [&] {
-      if (!params.board_when_seen_under || reaches_support) return false;
-      const FootView v = foot_view(f, grid, stride, tolerance);
-      return v.columns >= 3 && 2 * v.farther > v.columns;
+      return params.board_when_seen_under && !reaches_support &&
+             seen_past(foot_view(f, grid, stride, tolerance));
     };
     bool body = false;
     for (size_t o = 0; o < ns && !body; ++o) {
