@@ -1,6 +1,7 @@
 #include "annex/common/shape.h"
 
 #include <array>
+#include <cmath>
 
 namespace annex {
 namespace {
@@ -47,6 +48,22 @@ int dimension_index(ShapeKind kind, std::string_view name) {
   for (size_t i = 0; i < names.size(); ++i)
     if (names[i] == name) return static_cast<int>(i);
   return -1;
+}
+
+double footprint_radius(ShapeKind kind, std::span<const double> d) {
+  if (d.size() < static_cast<size_t>(dimension_count(kind))) return 0;
+  switch (kind) {
+    case ShapeKind::sphere:
+    case ShapeKind::cylinder:
+    case ShapeKind::cone:
+      return d[0];
+    case ShapeKind::torus:
+      return d[0] + d[1];
+    case ShapeKind::box:
+    case ShapeKind::plane:
+      return 0.5 * std::hypot(d[0], d[1]);
+  }
+  return 0;
 }
 
 }  // namespace annex

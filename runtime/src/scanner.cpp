@@ -2973,14 +2973,18 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // Lower, a body is a board (a shelf's lowest, on side panels outside the cluster)
     // when its lower half is unseen and the view passes under it: a box with a can on
     // it shows its front down to its own support.
-    const auto board = [&] {
-      return params.board_when_seen_under && !reaches_support &&
-             seen_past(foot_view(f, grid, stride, tolerance));
+    // Looked at once per cluster, when a lower support first asks (-1: not yet).
+    int board = -1;
+    const auto is_board = [&] {
+      if (board < 0)
+        board = params.board_when_seen_under && !reaches_support &&
+                seen_past(foot_view(f, grid, stride, tolerance));
+      return board == 1;
     };
     bool body = false;
     for (size_t o = 0; o < ns && !body; ++o) {
       if (static_cast<int>(o) == k || !holds[o] || found[o].plane.d >= plane.d) continue;
-      if (plane.d - found[o].plane.d < params.furniture_min_height_m && !board()) continue;
+      if (plane.d - found[o].plane.d < params.furniture_min_height_m && !is_board()) continue;
       size_t on_top = 0, at_height = 0;
       for (int i : grid) {
         const Vec3 p = to_vec(f.points[i]);

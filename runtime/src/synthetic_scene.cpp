@@ -70,16 +70,7 @@ double half_height(const SyntheticObject& o) { return center_height(o); }
 
 // Radius of the circle the object covers on the table, whatever its yaw.
 double footprint_radius(const SyntheticObject& o) {
-  const auto& d = o.dimensions_m;
-  switch (o.kind) {
-    case ShapeKind::sphere:
-    case ShapeKind::cylinder:
-    case ShapeKind::cone: return d[0];
-    case ShapeKind::torus: return d[0] + d[1];
-    case ShapeKind::box:
-    case ShapeKind::plane: return 0.5 * std::hypot(d[0], d[1]);
-  }
-  return 0;
+  return annex::footprint_radius(o.kind, o.dimensions_m);
 }
 
 // Half the object's horizontal extent along the horizontal unit vector u: a box's

@@ -185,23 +185,9 @@ double surface_distance(const ShapeFit& fit, Vec3 p) {
   return 1e9;
 }
 
-// The radius of a fitted primitive's footprint on its support: the widest of its round
-// sections, a box's half diagonal.
+// The radius of a fitted primitive's footprint on its support (shape.h).
 double footprint_radius(const ShapeFit& fit) {
-  const PhysicalPrimitive& q = fit.primitive;
-  const auto dim = [&](size_t k) { return k < q.dimensions_m.size() ? q.dimensions_m[k] : 0.0; };
-  switch (q.kind) {
-    case ShapeKind::cone:
-      return std::max(dim(0), q.narrow_radius_m);
-    case ShapeKind::torus:
-      return dim(0) + dim(1);
-    case ShapeKind::box:
-      return 0.5 * std::hypot(dim(0), dim(1));
-    case ShapeKind::plane:
-      return 0;
-    default:
-      return dim(0);
-  }
+  return annex::footprint_radius(fit.primitive.kind, fit.primitive.dimensions_m);
 }
 
 // Whether the fit leaves pixel p out: farther from its surface than the tolerance at p's

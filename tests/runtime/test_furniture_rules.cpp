@@ -119,14 +119,17 @@ Seen scan_seeds(const std::vector<std::uint64_t>& seeds, bool rooms, int label,
 }
 
 // The rule that `with` has and `without` lacks takes every `label` object reported whole
-// on `seeds` (at least `at_least` of them without it), and no true object with them.
-void expect_rule_takes(const std::vector<std::uint64_t>& seeds, bool rooms, int label,
-                       const ScanParams& with, const ScanParams& without, int at_least) {
-  const Seen on = scan_seeds(seeds, rooms, label, with);
-  const Seen off = scan_seeds(seeds, rooms, label, without);
+// on `seeds` (at least `at_least` of them without it), and no true object with them
+// (`shelf_objects` as for scan_seeds). Returns what `without` saw.
+Seen expect_rule_takes(const std::vector<std::uint64_t>& seeds, bool rooms, int label,
+                       const ScanParams& with, const ScanParams& without, int at_least,
+                       bool shelf_objects = false) {
+  const Seen on = scan_seeds(seeds, rooms, label, with, shelf_objects);
+  const Seen off = scan_seeds(seeds, rooms, label, without, shelf_objects);
   EXPECT_EQ(on.whole, 0) << "seed " << seeds.front() << ", label " << label;
   EXPECT_GE(off.whole, at_least) << "seed " << seeds.front() << ", label " << label;
   EXPECT_EQ(on.found, off.found) << "seed " << seeds.front() << ", label " << label;
+  return off;
 }
 
 TEST(FurnitureRules, AWardrobeCutByTheHeightBandIsNoProp) {
@@ -334,11 +337,7 @@ TEST(FurnitureRules, ABoardTheViewPassesUnderToTheWallIsPartial) {
   without.seen_under_raised_bands = 0;
   // A board's body seen under drops it another way (session 34): off on this side.
   without.board_when_seen_under = false;
-  const Seen on = scan_seeds({9518u}, true, kLabelShelf, ScanParams{}, true);
-  const Seen off = scan_seeds({9518u}, true, kLabelShelf, without, true);
-  EXPECT_EQ(on.whole, 0);
-  EXPECT_GE(off.whole, 1);
-  EXPECT_EQ(on.found, off.found);
+  expect_rule_takes({9518u}, true, kLabelShelf, ScanParams{}, without, 1, true);
 }
 
 TEST(FurnitureRules, AShelfPieceWhoseFootATableHidesIsPartial) {
@@ -348,11 +347,9 @@ TEST(FurnitureRules, AShelfPieceWhoseFootATableHidesIsPartial) {
   // sees where it ends (partial_when_foot_behind_higher).
   ScanParams without;
   without.partial_when_foot_behind_higher = false;
-  const Seen on = scan_seeds({5105u, 9810u}, true, kLabelShelf, ScanParams{}, true);
-  const Seen off = scan_seeds({5105u, 9810u}, true, kLabelShelf, without, true);
-  EXPECT_EQ(on.whole, 0);
-  EXPECT_EQ(off.whole, 2);
-  EXPECT_EQ(on.found, off.found);
+  EXPECT_EQ(
+      expect_rule_takes({5105u, 9810u}, true, kLabelShelf, ScanParams{}, without, 2, true).whole,
+      2);
 }
 
 TEST(FurnitureRules, AShelfsLowBoardSeenUnderIsFurniture) {
@@ -363,11 +360,9 @@ TEST(FurnitureRules, AShelfsLowBoardSeenUnderIsFurniture) {
   // shows its front down to its own support (ClutterStacking keeps those).
   ScanParams without;
   without.board_when_seen_under = false;
-  const Seen on = scan_seeds({9920u, 10069u}, true, kLabelShelf, ScanParams{}, true);
-  const Seen off = scan_seeds({9920u, 10069u}, true, kLabelShelf, without, true);
-  EXPECT_EQ(on.whole, 0);
-  EXPECT_EQ(off.whole, 2);
-  EXPECT_EQ(on.found, off.found);
+  EXPECT_EQ(
+      expect_rule_takes({9920u, 10069u}, true, kLabelShelf, ScanParams{}, without, 2, true).whole,
+      2);
 }
 
 TEST(FurnitureRules, WhatTheViewUnderMeetsJustBehindOrBesideTheFootStaysWhole) {

@@ -33,4 +33,9 @@ inline int dimension_count(ShapeKind kind) {
 // Index of a dimension name for this shape, or -1.
 int dimension_index(ShapeKind kind, std::string_view name);
 
+// Radius of the circle the shape covers on its support, whatever its yaw: a round
+// shape's radius (a cone's base, its widest), a torus's outer radius, a box's or plane's
+// half diagonal. 0 when `dimensions` holds fewer than dimension_count(kind).
+double footprint_radius(ShapeKind kind, std::span<const double> dimensions);
+
 }  // namespace annex
