@@ -9,6 +9,7 @@
 
 #include "annex/runtime/frame.h"
 #include "cylinder_any_axis.h"
+#include "point_scatter.h"
 #include "shape_rays.h"
 #include "shape_residuals.h"
 
@@ -1498,15 +1499,8 @@ ShapeFit fit_oriented_box(const Samples& s, const ShapeRecognizerParams& params)
   ShapeFit out;
   const size_t n = s.xyz.size();
   if (n < 30) return out;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Vec3& p : s.xyz) mean += Eigen::Vector3d(p.x, p.y, p.z);
-  mean /= static_cast<double>(n);
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const Vec3& p : s.xyz) {
-    const Eigen::Vector3d q = Eigen::Vector3d(p.x, p.y, p.z) - mean;
-    cov += q * q.transpose();
-  }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+  const PointScatter scatter = point_scatter(s.xyz);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(scatter.scatter);
   Vec3 axes[3];
   double lo[3], hi[3];
   for (int k = 0; k < 3; ++k) {

@@ -1829,20 +1829,13 @@ WeightedPlane weighted_plane(const std::vector<Vec3>& pts, Vec3 toward) {
   WeightedPlane out;
   if (pts.size() < 50) return out;
   std::vector<double> w(pts.size());
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (size_t k = 0; k < pts.size(); ++k) {
+  for (size_t k = 0; k < pts.size(); ++k)
     w[k] = 1 / (kinect_sigma_z(pts[k].z) * kinect_sigma_z(pts[k].z));
-    mean += w[k] * Eigen::Vector3d(pts[k].x, pts[k].y, pts[k].z);
-    out.weight += w[k];
-  }
-  mean /= out.weight;
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (size_t k = 0; k < pts.size(); ++k) {
-    const Eigen::Vector3d o = Eigen::Vector3d(pts[k].x, pts[k].y, pts[k].z) - mean;
-    scatter += w[k] * o * o.transpose();
-  }
+  const WeightedScatter ws = weighted_point_scatter(pts, w);
+  const Eigen::Vector3d& mean = ws.mean;
+  out.weight = ws.weight;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-  es.computeDirect(scatter);
+  es.computeDirect(ws.scatter);
   out.axes = es.eigenvectors();
   out.spread = es.eigenvalues();
   out.mean = mean;
@@ -2546,6 +2539,13 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   size_t lowest = 0;
   for (size_t k = 1; k < found.size(); ++k)
     if (found[k].plane.d > found[lowest].plane.d) lowest = k;
+  // A hull grows by a disc around each corner, of kGrowDirections points.
+  constexpr int kGrowDirections = 16;
+  std::array<std::pair<double, double>, kGrowDirections> grow_directions;
+  for (int j = 0; j < kGrowDirections; ++j) {
+    const double t = 2 * 3.14159265358979 * j / kGrowDirections;
+    grow_directions[static_cast<size_t>(j)] = {std::cos(t), std::sin(t)};
+  }
   for (size_t k = 0; k < found.size(); ++k) {
     Found& fd = found[k];
     std::vector<Vec3> hull_points = fd.regions.hull_points;
@@ -2559,11 +2559,10 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
                                    k == lowest && found.size() >= 1 ? params.floor_margin_m : 0.0);
     const auto grow = [&](const Hull2& h, double by) {
       std::vector<Vec3> grown;
+      grown.reserve(h.pts.size() * kGrowDirections);
       for (const auto& q : h.pts)
-        for (int j = 0; j < 16; ++j) {
-          const double t = 2 * 3.14159265358979 * j / 16;
-          grown.push_back(h.u * (q[0] + by * std::cos(t)) + h.v * (q[1] + by * std::sin(t)));
-        }
+        for (const auto& [c, s] : grow_directions)
+          grown.push_back(h.u * (q[0] + by * c) + h.v * (q[1] + by * s));
       return convex_hull(grown, fd.plane.n);
     };
     if (margin > 0 && fd.hull.pts.size() >= 3) fd.hull = grow(fd.hull, margin);
