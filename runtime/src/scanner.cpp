@@ -1476,7 +1476,9 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
       std::max(params.support_gap_reach_m, std::sqrt((hi_u - lo_u + 1) * (hi_v - lo_v + 1) / 4e6));
   const double cell = r.cell;
   // A reach in whole cells, one at least (the neighbours); bounded, as a bad depth's is not.
+  // (Within one cell the quotient is at most 1: the division is skipped for the most.)
   const auto in_cells = [cell](double reach) {
+    if (reach <= cell) return 1L;
     return std::clamp(static_cast<long>(std::ceil(reach / cell)), 1L, GapReach::kMaxReachCells);
   };
   const long margin = in_cells(widest);
@@ -2018,6 +2020,11 @@ PlaneFit noise_fit_plane(const std::vector<Vec3>& pool, const std::vector<double
   return plane;
 }
 
+// The plane stage's pass over the pool for a plane's inliers runs in bands of at least
+// kInlierBand points (a band is some 20 microseconds of work), at most kMaxInlierBands.
+constexpr size_t kInlierBand = 8192;
+constexpr size_t kMaxInlierBands = 4;
+
 // Every support: planes extracted one after another, each one's inliers leaving the
 // search. A plane counts when its kept regions hold min_plane_points. Kept out of line
 // so the plane stage shows on its own in a profile.
@@ -2154,16 +2161,31 @@ PlaneFit noise_fit_plane(const std::vector<Vec3>& pool, const std::vector<double
     }
     // One pass finds the inliers for the regions and for leaving the pool, and counts
     // those within the fixed band: a first plane holding fewer than min_plane_points
-    // there ends the search (find_plane's count, once its own pass over the pool).
+    // there ends the search (find_plane's count, once its own pass over the pool). It
+    // runs in bands of the pool on the scan's threads, joined in the pool's order.
     inliers.clear();
     inlier_cells.clear();
     int fixed_band_inliers = 0;
-    for (size_t k = 0; k < pool.size(); ++k) {
-      const double h = std::abs(dot(ps.plane.n, pool_pts[k]) + ps.plane.d);
-      fixed_band_inliers += h < params.plane_distance_m;
-      if (h < pool_band[k]) {
-        inliers.push_back(pool[k]);
-        inlier_cells.push_back(pool_cells[k]);
+    {
+      std::array<std::vector<int>, kMaxInlierBands> band_inliers;
+      std::array<std::vector<GridCell>, kMaxInlierBands> band_cells;
+      std::array<int, kMaxInlierBands> band_fixed{};
+      const size_t bands = std::min(kMaxInlierBands, pool.size() / kInlierBand + 1);
+      parallel_for(bands, [&](size_t b) {
+        const size_t lo = pool.size() * b / bands, hi = pool.size() * (b + 1) / bands;
+        for (size_t k = lo; k < hi; ++k) {
+          const double h = std::abs(dot(ps.plane.n, pool_pts[k]) + ps.plane.d);
+          band_fixed[b] += h < params.plane_distance_m;
+          if (h < pool_band[k]) {
+            band_inliers[b].push_back(pool[k]);
+            band_cells[b].push_back(pool_cells[k]);
+          }
+        }
+      });
+      for (size_t b = 0; b < bands; ++b) {
+        inliers.insert(inliers.end(), band_inliers[b].begin(), band_inliers[b].end());
+        inlier_cells.insert(inlier_cells.end(), band_cells[b].begin(), band_cells[b].end());
+        fixed_band_inliers += band_fixed[b];
       }
     }
     if (planes.empty() && fixed_band_inliers * stride * stride < params.min_plane_points) break;
@@ -2667,7 +2689,18 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   constexpr size_t kPrismChunk = 4096;
   const size_t prism_bands = (strided.size() + kPrismChunk - 1) / kPrismChunk;
   std::vector<std::vector<int>> band_seeds(prism_bands), around_seeds(prism_bands);
-  parallel_for(prism_bands, [&](size_t b) {
+  // Which support's surface each strided pixel is (-1: none), for the clusters' tests
+  // below: the pass's first item, beside its chunks.
+  std::vector<int> surface_of;
+  parallel_for(prism_bands + 1, [&](size_t item) {
+    if (item == 0) {
+      surface_of.assign(f.points.size(), -1);
+      for (size_t k = 0; k < ns; ++k)
+        for (int i : found[k].regions.members)
+          surface_of[static_cast<size_t>(i)] = static_cast<int>(k);
+      return;
+    }
+    const size_t b = item - 1;
     const size_t lo = b * kPrismChunk, hi = std::min(strided.size(), lo + kPrismChunk);
     std::vector<int>& out = band_seeds[b];
     for (size_t s = lo; s < hi; ++s) {
@@ -2730,12 +2763,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     int support = 0;
   };
   std::vector<Candidate> clusters;
-  // Which support's surface each strided pixel is (-1: none), and the pixels of
-  // clusters whose extent no one sees (a nearer support or object hides their top, or
-  // they are one upright face).
-  std::vector<int> surface_of(f.points.size(), -1);
-  for (size_t k = 0; k < ns; ++k)
-    for (int i : found[k].regions.members) surface_of[static_cast<size_t>(i)] = static_cast<int>(k);
+  // The pixels of clusters whose extent no one sees (a nearer support or object hides
+  // their top, or they are one upright face).
   std::vector<char> hidden;  // sized with the label beside the grids' tests (below)
   std::vector<int> label;
   // Index of a support above cluster `grid`'s own (k) whose surface, nearer to the
