@@ -2020,11 +2020,6 @@ PlaneFit noise_fit_plane(const std::vector<Vec3>& pool, const std::vector<double
   return plane;
 }
 
-// The plane stage's pass over the pool for a plane's inliers runs in bands of at least
-// kInlierBand points (a band is some 20 microseconds of work), at most kMaxInlierBands.
-constexpr size_t kInlierBand = 8192;
-constexpr size_t kMaxInlierBands = 4;
-
 // Every support: planes extracted one after another, each one's inliers leaving the
 // search. A plane counts when its kept regions hold min_plane_points. Kept out of line
 // so the plane stage shows on its own in a profile.
@@ -2161,31 +2156,16 @@ constexpr size_t kMaxInlierBands = 4;
     }
     // One pass finds the inliers for the regions and for leaving the pool, and counts
     // those within the fixed band: a first plane holding fewer than min_plane_points
-    // there ends the search (find_plane's count, once its own pass over the pool). It
-    // runs in bands of the pool on the scan's threads, joined in the pool's order.
+    // there ends the search (find_plane's count, once its own pass over the pool).
     inliers.clear();
     inlier_cells.clear();
     int fixed_band_inliers = 0;
-    {
-      std::array<std::vector<int>, kMaxInlierBands> band_inliers;
-      std::array<std::vector<GridCell>, kMaxInlierBands> band_cells;
-      std::array<int, kMaxInlierBands> band_fixed{};
-      const size_t bands = std::min(kMaxInlierBands, pool.size() / kInlierBand + 1);
-      parallel_for(bands, [&](size_t b) {
-        const size_t lo = pool.size() * b / bands, hi = pool.size() * (b + 1) / bands;
-        for (size_t k = lo; k < hi; ++k) {
-          const double h = std::abs(dot(ps.plane.n, pool_pts[k]) + ps.plane.d);
-          band_fixed[b] += h < params.plane_distance_m;
-          if (h < pool_band[k]) {
-            band_inliers[b].push_back(pool[k]);
-            band_cells[b].push_back(pool_cells[k]);
-          }
-        }
-      });
-      for (size_t b = 0; b < bands; ++b) {
-        inliers.insert(inliers.end(), band_inliers[b].begin(), band_inliers[b].end());
-        inlier_cells.insert(inlier_cells.end(), band_cells[b].begin(), band_cells[b].end());
-        fixed_band_inliers += band_fixed[b];
+    for (size_t k = 0; k < pool.size(); ++k) {
+      const double h = std::abs(dot(ps.plane.n, pool_pts[k]) + ps.plane.d);
+      fixed_band_inliers += h < params.plane_distance_m;
+      if (h < pool_band[k]) {
+        inliers.push_back(pool[k]);
+        inlier_cells.push_back(pool_cells[k]);
       }
     }
     if (planes.empty() && fixed_band_inliers * stride * stride < params.min_plane_points) break;
