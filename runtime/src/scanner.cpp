@@ -2548,50 +2548,59 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     const double t = 2 * 3.14159265358979 * j / kGrowDirections;
     grow_directions[static_cast<size_t>(j)] = {std::cos(t), std::sin(t)};
   }
-  for (size_t k = 0; k < found.size(); ++k) {
-    Found& fd = found[k];
-    std::vector<Vec3> hull_points = fd.regions.hull_points;
-    if (params.hull_to_camera && (fd.regions.touches_bottom || k == lowest))
-      hull_points.push_back(fd.plane.n * -fd.plane.d);
-    fd.hull = convex_hull(hull_points, fd.plane.n);
-    // The floor runs on under what stands on it beyond its visible patches (a storage
-    // box in front of a floor seen between furniture): its hull grows by
-    // floor_margin_m; every support by hull_margin_m.
-    const double margin = std::max(params.hull_margin_m,
-                                   k == lowest && found.size() >= 1 ? params.floor_margin_m : 0.0);
-    const auto grow = [&](const Hull2& h, double by) {
-      std::vector<Vec3> grown;
-      grown.reserve(h.pts.size() * kGrowDirections);
-      for (const auto& q : h.pts)
-        for (const auto& [c, s] : grow_directions)
-          grown.push_back(h.u * (q[0] + by * c) + h.v * (q[1] + by * s));
-      return convex_hull(grown, fd.plane.n);
-    };
-    if (margin > 0 && fd.hull.pts.size() >= 3) fd.hull = grow(fd.hull, margin);
-    if (params.overhang_margin_m > 0 && fd.hull.pts.size() >= 3)
-      fd.reach = grow(fd.hull, params.overhang_margin_m);
-    ScanSupport sup;
-    sup.surface.id = "s" + std::to_string(k + 1);
-    sup.surface.plane = {fd.plane.n, fd.plane.d};
-    sup.surface.point_count = fd.points;
-    sup.area_m2 = hull_area(fd.hull);
-    sup.furniture = sup.area_m2 > params.furniture_area_m2;
-    if (params.seen_part_reach_m > 0 && k != lowest && !sup.furniture && fd.hull.pts.size() >= 3)
-      fd.around = grow(fd.hull, params.seen_part_reach_m);
-    // The smallest squared distance, then its root: the root is monotonic.
-    double nearest2 = 1e18;
-    for (int i : fd.regions.members) {
-      const Vec3 p = to_vec(f.points[i]);
-      nearest2 = std::min(nearest2, dot(p, p));
-    }
-    sup.distance_m = fd.regions.members.empty() ? 1e9 : std::sqrt(nearest2);
-    for (const auto& q : fd.hull.pts) {
-      Vec3 p = fd.hull.u * q[0] + fd.hull.v * q[1];
-      p = p - fd.plane.n * (dot(fd.plane.n, p) + fd.plane.d);
-      sup.hull.push_back(p);
-    }
-    result.supports.push_back(std::move(sup));
-  }
+  // Each support's hulls on the scan's threads (they read only their own support), the
+  // largest outlines first: the floor's is most of the work.
+  result.supports.resize(found.size());
+  std::vector<size_t> outline_sizes(found.size());
+  for (size_t k = 0; k < found.size(); ++k) outline_sizes[k] = found[k].regions.hull_points.size();
+  const std::vector<size_t> outline_order = largest_first(outline_sizes);
+  parallel_for(
+      found.size(),
+      [&](size_t k) {
+        Found& fd = found[k];
+        std::vector<Vec3> hull_points = fd.regions.hull_points;
+        if (params.hull_to_camera && (fd.regions.touches_bottom || k == lowest))
+          hull_points.push_back(fd.plane.n * -fd.plane.d);
+        fd.hull = convex_hull(hull_points, fd.plane.n);
+        // The floor runs on under what stands on it beyond its visible patches (a storage
+        // box in front of a floor seen between furniture): its hull grows by
+        // floor_margin_m; every support by hull_margin_m.
+        const double margin = std::max(
+            params.hull_margin_m, k == lowest && found.size() >= 1 ? params.floor_margin_m : 0.0);
+        const auto grow = [&](const Hull2& h, double by) {
+          std::vector<Vec3> grown;
+          grown.reserve(h.pts.size() * kGrowDirections);
+          for (const auto& q : h.pts)
+            for (const auto& [c, s] : grow_directions)
+              grown.push_back(h.u * (q[0] + by * c) + h.v * (q[1] + by * s));
+          return convex_hull(grown, fd.plane.n);
+        };
+        if (margin > 0 && fd.hull.pts.size() >= 3) fd.hull = grow(fd.hull, margin);
+        if (params.overhang_margin_m > 0 && fd.hull.pts.size() >= 3)
+          fd.reach = grow(fd.hull, params.overhang_margin_m);
+        ScanSupport& sup = result.supports[k];
+        sup.surface.id = "s" + std::to_string(k + 1);
+        sup.surface.plane = {fd.plane.n, fd.plane.d};
+        sup.surface.point_count = fd.points;
+        sup.area_m2 = hull_area(fd.hull);
+        sup.furniture = sup.area_m2 > params.furniture_area_m2;
+        if (params.seen_part_reach_m > 0 && k != lowest && !sup.furniture &&
+            fd.hull.pts.size() >= 3)
+          fd.around = grow(fd.hull, params.seen_part_reach_m);
+        // The smallest squared distance, then its root: the root is monotonic.
+        double nearest2 = 1e18;
+        for (int i : fd.regions.members) {
+          const Vec3 p = to_vec(f.points[i]);
+          nearest2 = std::min(nearest2, dot(p, p));
+        }
+        sup.distance_m = fd.regions.members.empty() ? 1e9 : std::sqrt(nearest2);
+        for (const auto& q : fd.hull.pts) {
+          Vec3 p = fd.hull.u * q[0] + fd.hull.v * q[1];
+          p = p - fd.plane.n * (dot(fd.plane.n, p) + fd.plane.d);
+          sup.hull.push_back(p);
+        }
+      },
+      &outline_order);
   // Which supports' objects are reported.
   {
     std::vector<size_t> reach;
