@@ -258,7 +258,7 @@ Criterion criterion(const FitTerms& whole, const FitTerms& a, const FitTerms& b,
           n_a * residual_energy(a, shape) + n_b * residual_energy(b, shape) + (a.parameters + b.parameters + 2) * ln};
 }
 
-// Both parts explained as well as a cluster must be not to be tried (a part explained
+// Both parts explained by their shapes over `least` of their points (a part explained
 // worse is no body of its own: a wall's patch, a piece of furniture).
 bool both_recognised(const FitTerms& a, const FitTerms& b, double least) {
   return a.recognised && b.recognised && a.coverage >= least && b.coverage >= least;
@@ -321,7 +321,7 @@ std::optional<TouchingCut> refit_cut(
   const FitTerms ta = terms_of(f, a);
   if (!ta.recognised) return std::nullopt;
   Criterion k = criterion(whole, ta, tb, shape);
-  bool recognised = both_recognised(ta, tb, params.max_whole_coverage);
+  bool recognised = both_recognised(ta, tb, params.min_part_coverage);
   // The means' cut is straight; where the two bodies meet each pixel lies on one of
   // the two fitted surfaces: once more with each pixel given to the nearer. A part
   // holding a strip of the other body may be explained poorly by the straight cut alone
@@ -343,7 +343,7 @@ std::optional<TouchingCut> refit_cut(
     refit(b2, nb2);
     const FitTerms ta2 = terms_of(f, a2), tb2 = terms_of(f, b2);
     const Criterion k2 = criterion(whole, ta2, tb2, shape);
-    if (both_recognised(ta2, tb2, params.max_whole_coverage) && (!recognised || k2.two < k.two)) {
+    if (both_recognised(ta2, tb2, params.min_part_coverage) && (!recognised || k2.two < k.two)) {
       a = std::move(a2), b = std::move(b2), na = std::move(na2), nb = std::move(nb2);
       k = k2;
       recognised = true;

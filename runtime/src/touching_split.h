@@ -26,7 +26,10 @@ namespace annex {
 struct TouchingSplitParams {
   // Only a cluster whose shape explains less than this share of its points is tried
   // (ScanParams::touching_max_coverage); 0: none.
-  double max_whole_coverage = 0.8;
+  double max_whole_coverage = 0.85;
+  // Each part's shape explains at least this share of its points
+  // (ScanParams::touching_part_coverage).
+  double min_part_coverage = 0.8;
   // Each part holds at least this share of the cluster's pixels (the segmenter's
   // min_object_share: smaller is a part of one object, not an object).
   double min_part_share = 0.08;

@@ -356,6 +356,7 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->join_occluded, d.join_occluded);
   EXPECT_EQ(p->join_across_supports, d.join_across_supports);
   EXPECT_EQ(p->touching_max_coverage, d.touching_max_coverage);
+  EXPECT_EQ(p->touching_part_coverage, d.touching_part_coverage);
   EXPECT_EQ(p->touching_waist_share, d.touching_waist_share);
   EXPECT_EQ(p->touching_min_part_size_m, d.touching_min_part_size_m);
   EXPECT_EQ(p->part_fit_slack, d.part_fit_slack);
