@@ -1476,7 +1476,7 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
       std::max(params.support_gap_reach_m, std::sqrt((hi_u - lo_u + 1) * (hi_v - lo_v + 1) / 4e6));
   const double cell = r.cell;
   // A reach in whole cells, one at least (the neighbours); bounded, as a bad depth's is not.
-  // (Within one cell the quotient is at most 1: the division is skipped for the most.)
+  // (Within one cell the quotient is at most 1: most pixels skip the division.)
   const auto in_cells = [cell](double reach) {
     if (reach <= cell) return 1L;
     return std::clamp(static_cast<long>(std::ceil(reach / cell)), 1L, GapReach::kMaxReachCells);
@@ -2466,6 +2466,64 @@ ScanParams with_camera_of(const Frame& f, const ScanParams& given) {
   return p;
 }
 
+// A hull grows by a disc around each corner, of kGrowDirections points.
+constexpr int kGrowDirections = 16;
+
+Hull2 grown_hull(const Hull2& h, Vec3 n, double by) {
+  static const auto directions = [] {
+    std::array<std::pair<double, double>, kGrowDirections> d;
+    for (int j = 0; j < kGrowDirections; ++j) {
+      const double t = 2 * 3.14159265358979 * j / kGrowDirections;
+      d[static_cast<size_t>(j)] = {std::cos(t), std::sin(t)};
+    }
+    return d;
+  }();
+  std::vector<Vec3> grown;
+  grown.reserve(h.pts.size() * kGrowDirections);
+  for (const auto& q : h.pts)
+    for (const auto& [c, s] : directions)
+      grown.push_back(h.u * (q[0] + by * c) + h.v * (q[1] + by * s));
+  return convex_hull(grown, n);
+}
+
+// Support k's hulls (its kept regions, plus the camera's foot on the plane when the
+// support runs out of the image's bottom or is the lowest, grown by the margins) set in
+// `fd`, and its record.
+ScanSupport support_of(const Frame& f, Found& fd, size_t k, bool lowest, const ScanParams& params) {
+  std::vector<Vec3> hull_points = fd.regions.hull_points;
+  if (params.hull_to_camera && (fd.regions.touches_bottom || lowest))
+    hull_points.push_back(fd.plane.n * -fd.plane.d);
+  fd.hull = convex_hull(hull_points, fd.plane.n);
+  // The floor runs on under what stands on it beyond its visible patches (a storage
+  // box in front of a floor seen between furniture): its hull grows by
+  // floor_margin_m; every support by hull_margin_m.
+  const double margin = std::max(params.hull_margin_m, lowest ? params.floor_margin_m : 0.0);
+  if (margin > 0 && fd.hull.pts.size() >= 3) fd.hull = grown_hull(fd.hull, fd.plane.n, margin);
+  if (params.overhang_margin_m > 0 && fd.hull.pts.size() >= 3)
+    fd.reach = grown_hull(fd.hull, fd.plane.n, params.overhang_margin_m);
+  ScanSupport sup;
+  sup.surface.id = "s" + std::to_string(k + 1);
+  sup.surface.plane = {fd.plane.n, fd.plane.d};
+  sup.surface.point_count = fd.points;
+  sup.area_m2 = hull_area(fd.hull);
+  sup.furniture = sup.area_m2 > params.furniture_area_m2;
+  if (params.seen_part_reach_m > 0 && !lowest && !sup.furniture && fd.hull.pts.size() >= 3)
+    fd.around = grown_hull(fd.hull, fd.plane.n, params.seen_part_reach_m);
+  // The smallest squared distance, then its root: the root is monotonic.
+  double nearest2 = 1e18;
+  for (int i : fd.regions.members) {
+    const Vec3 p = to_vec(f.points[i]);
+    nearest2 = std::min(nearest2, dot(p, p));
+  }
+  sup.distance_m = fd.regions.members.empty() ? 1e9 : std::sqrt(nearest2);
+  for (const auto& q : fd.hull.pts) {
+    Vec3 p = fd.hull.u * q[0] + fd.hull.v * q[1];
+    p = p - fd.plane.n * (dot(fd.plane.n, p) + fd.plane.d);
+    sup.hull.push_back(p);
+  }
+  return sup;
+}
+
 }  // namespace
 
 Result<ScanResult> scan_frame(const Frame& input, const ScanParams& params) {
@@ -2541,65 +2599,15 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   size_t lowest = 0;
   for (size_t k = 1; k < found.size(); ++k)
     if (found[k].plane.d > found[lowest].plane.d) lowest = k;
-  // A hull grows by a disc around each corner, of kGrowDirections points.
-  constexpr int kGrowDirections = 16;
-  std::array<std::pair<double, double>, kGrowDirections> grow_directions;
-  for (int j = 0; j < kGrowDirections; ++j) {
-    const double t = 2 * 3.14159265358979 * j / kGrowDirections;
-    grow_directions[static_cast<size_t>(j)] = {std::cos(t), std::sin(t)};
-  }
-  // Each support's hulls on the scan's threads (they read only their own support), the
-  // largest outlines first: the floor's is most of the work.
+  // Each support's hulls and record on the scan's threads (each reads only its own
+  // support), the largest outlines first: the floor's is most of the work.
   result.supports.resize(found.size());
   std::vector<size_t> outline_sizes(found.size());
   for (size_t k = 0; k < found.size(); ++k) outline_sizes[k] = found[k].regions.hull_points.size();
   const std::vector<size_t> outline_order = largest_first(outline_sizes);
   parallel_for(
       found.size(),
-      [&](size_t k) {
-        Found& fd = found[k];
-        std::vector<Vec3> hull_points = fd.regions.hull_points;
-        if (params.hull_to_camera && (fd.regions.touches_bottom || k == lowest))
-          hull_points.push_back(fd.plane.n * -fd.plane.d);
-        fd.hull = convex_hull(hull_points, fd.plane.n);
-        // The floor runs on under what stands on it beyond its visible patches (a storage
-        // box in front of a floor seen between furniture): its hull grows by
-        // floor_margin_m; every support by hull_margin_m.
-        const double margin = std::max(
-            params.hull_margin_m, k == lowest && found.size() >= 1 ? params.floor_margin_m : 0.0);
-        const auto grow = [&](const Hull2& h, double by) {
-          std::vector<Vec3> grown;
-          grown.reserve(h.pts.size() * kGrowDirections);
-          for (const auto& q : h.pts)
-            for (const auto& [c, s] : grow_directions)
-              grown.push_back(h.u * (q[0] + by * c) + h.v * (q[1] + by * s));
-          return convex_hull(grown, fd.plane.n);
-        };
-        if (margin > 0 && fd.hull.pts.size() >= 3) fd.hull = grow(fd.hull, margin);
-        if (params.overhang_margin_m > 0 && fd.hull.pts.size() >= 3)
-          fd.reach = grow(fd.hull, params.overhang_margin_m);
-        ScanSupport& sup = result.supports[k];
-        sup.surface.id = "s" + std::to_string(k + 1);
-        sup.surface.plane = {fd.plane.n, fd.plane.d};
-        sup.surface.point_count = fd.points;
-        sup.area_m2 = hull_area(fd.hull);
-        sup.furniture = sup.area_m2 > params.furniture_area_m2;
-        if (params.seen_part_reach_m > 0 && k != lowest && !sup.furniture &&
-            fd.hull.pts.size() >= 3)
-          fd.around = grow(fd.hull, params.seen_part_reach_m);
-        // The smallest squared distance, then its root: the root is monotonic.
-        double nearest2 = 1e18;
-        for (int i : fd.regions.members) {
-          const Vec3 p = to_vec(f.points[i]);
-          nearest2 = std::min(nearest2, dot(p, p));
-        }
-        sup.distance_m = fd.regions.members.empty() ? 1e9 : std::sqrt(nearest2);
-        for (const auto& q : fd.hull.pts) {
-          Vec3 p = fd.hull.u * q[0] + fd.hull.v * q[1];
-          p = p - fd.plane.n * (dot(fd.plane.n, p) + fd.plane.d);
-          sup.hull.push_back(p);
-        }
-      },
+      [&](size_t k) { result.supports[k] = support_of(f, found[k], k, k == lowest, params); },
       &outline_order);
   // Which supports' objects are reported.
   {
