@@ -26,7 +26,7 @@ namespace annex {
 struct TouchingSplitParams {
   // Only a cluster whose shape explains less than this share of its points is tried
   // (ScanParams::touching_max_coverage); 0: none.
-  double max_whole_coverage = 0.85;
+  double max_whole_coverage = 0.8;
   // Each part's shape explains at least this share of its points
   // (ScanParams::touching_part_coverage).
   double min_part_coverage = 0.8;
