@@ -2591,11 +2591,10 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   result.stages.push_back({"plane", ms_since(t0)});
 
   t0 = Clock::now();
-  // Hulls: the kept regions, plus the camera's foot on the plane when the support
-  // runs out of the image's bottom (it continues towards the camera, hidden by the
-  // objects on it or out of view) or is the lowest, grown by hull_margin_m.
-  // The lowest support (the floor when it shows) always runs under the camera: the
-  // camera is above it, so objects in front of its visible part stand on it too.
+  // Hulls (support_of): a support running out of the image's bottom continues towards
+  // the camera, hidden by the objects on it or out of view, and the lowest support (the
+  // floor when it shows) always runs under the camera: the camera is above it, so
+  // objects in front of its visible part stand on it too.
   size_t lowest = 0;
   for (size_t k = 1; k < found.size(); ++k)
     if (found[k].plane.d > found[lowest].plane.d) lowest = k;

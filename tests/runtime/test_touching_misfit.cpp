@@ -8,12 +8,35 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 
 #include "annex/runtime/scanner.h"
 #include "room_scan.h"
 
 namespace annex {
 namespace {
+
+// The room's object for which `is` holds and the one it touches (the object it was
+// placed touching, or the one placed touching it); -1 for either when the generator no
+// longer makes them.
+template <typename Is>
+std::pair<int, int> touching_pair(std::uint64_t seed, const SyntheticScene& scene, Is is) {
+  const int t = find_object(scene, is);
+  EXPECT_GE(t, 0) << "the generator no longer puts the object in " << seed;
+  if (t < 0) return {-1, -1};
+  int other = scene.objects[static_cast<std::size_t>(t)].touching;
+  if (other < 0)
+    other = find_object(scene, [&](const SyntheticObject& o) { return o.touching == t; });
+  EXPECT_GE(other, 0) << seed << ": the object no longer touches another";
+  return {t, other};
+}
+
+// Whether the scanned object of truth object k is one of its own kind.
+bool found_as_itself(const RoomScan& r, int k) {
+  const auto& got = r.of[static_cast<std::size_t>(k)];
+  return got && !got->primitives.empty() &&
+         got->primitives[0].kind == r.scene.objects[static_cast<std::size_t>(k)].kind;
+}
 
 // Whether the room's touching pair holding an object for which `is` holds is found as two
 // objects, each of its own kind.
@@ -22,25 +45,24 @@ void expect_pair_apart(std::uint64_t seed, Is is) {
   ScanParams means_only;
   means_only.touching_misfit_cut = false;
   const RoomScan r = scan_room(seed, ScanParams{});
-  const int t = find_object(r.scene, is);
-  ASSERT_GE(t, 0) << "the generator no longer puts the object in " << seed;
-  // The pair: the object it was placed touching, or the one placed touching it.
-  int other = r.scene.objects[static_cast<std::size_t>(t)].touching;
-  if (other < 0)
-    other = find_object(r.scene, [&](const SyntheticObject& o) { return o.touching == t; });
-  ASSERT_GE(other, 0) << seed << ": the object no longer touches another";
-  for (const int k : {t, other}) {
-    const auto& got = r.of[static_cast<std::size_t>(k)];
-    ASSERT_TRUE(got.has_value()) << seed << " object " << k;
-    ASSERT_FALSE(got->primitives.empty());
-    EXPECT_EQ(got->primitives[0].kind, r.scene.objects[static_cast<std::size_t>(k)].kind)
-        << seed << " object " << k;
-  }
+  const auto [t, other] = touching_pair(seed, r.scene, is);
+  ASSERT_GE(t, 0);
+  ASSERT_GE(other, 0);
+  for (const int k : {t, other}) EXPECT_TRUE(found_as_itself(r, k)) << seed << " object " << k;
   // With the means' cut alone, one of the two is no object's own.
   const RoomScan merged = scan_room(seed, means_only);
   EXPECT_TRUE(!merged.of[static_cast<std::size_t>(t)] ||
               !merged.of[static_cast<std::size_t>(other)])
       << seed;
+}
+
+// The room's touching pair holding an object for which `is` holds, scanned with
+// `params`: whether both are found, each as an object of its own kind.
+template <typename Is>
+bool pair_found_apart(std::uint64_t seed, const ScanParams& params, Is is) {
+  const RoomScan r = scan_room(seed, params);
+  const auto [t, other] = touching_pair(seed, r.scene, is);
+  return t >= 0 && other >= 0 && found_as_itself(r, t) && found_as_itself(r, other);
 }
 
 TEST(TouchingMisfit, AFlatBowlAgainstABoxIsTwoObjects) {
@@ -72,28 +94,6 @@ TEST(TouchingMisfit, OneBowlPoorlyFittedStaysOneObject) {
   ASSERT_TRUE(got.has_value());
   ASSERT_FALSE(got->primitives.empty());
   EXPECT_EQ(got->primitives[0].kind, ShapeKind::cone);
-}
-
-// The room's touching pair holding an object for which `is` holds, scanned with
-// `params`: whether both are found, each as an object of its own kind.
-template <typename Is>
-bool pair_found_apart(std::uint64_t seed, const ScanParams& params, Is is) {
-  const RoomScan r = scan_room(seed, params);
-  const int t = find_object(r.scene, is);
-  EXPECT_GE(t, 0) << "the generator no longer puts the object in " << seed;
-  if (t < 0) return false;
-  int other = r.scene.objects[static_cast<std::size_t>(t)].touching;
-  if (other < 0)
-    other = find_object(r.scene, [&](const SyntheticObject& o) { return o.touching == t; });
-  EXPECT_GE(other, 0) << seed << ": the object no longer touches another";
-  if (other < 0) return false;
-  for (const int k : {t, other}) {
-    const auto& got = r.of[static_cast<std::size_t>(k)];
-    if (!got || got->primitives.empty() ||
-        got->primitives[0].kind != r.scene.objects[static_cast<std::size_t>(k)].kind)
-      return false;
-  }
-  return true;
 }
 
 // The wider gate a user may set (ScanParams::touching_max_coverage; the default 0.8 keeps
