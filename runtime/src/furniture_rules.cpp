@@ -125,6 +125,19 @@ bool end_hidden(const FootView& v) {
 
 }  // namespace
 
+bool foot_on_cut_body(const Frame& f, const std::vector<int>& grid, int step,
+                      const std::function<bool(int)>& cut_below, const ToleranceAt& tolerance) {
+  const std::vector<std::pair<int, int>> ends = end_per_column(f, grid, false);
+  int cut = 0;
+  for (const auto& [col, i] : ends) {
+    const int j = first_with_depth(f, i, step * f.width);
+    if (j < 0) continue;
+    const double z = f.points[static_cast<size_t>(i)].z, qz = f.points[static_cast<size_t>(j)].z;
+    cut += std::abs(qz - z) <= tolerance(z) && cut_below(j);
+  }
+  return ends.size() >= 3 && 2 * static_cast<size_t>(cut) > ends.size();
+}
+
 bool top_occluded(const Frame& f, const std::vector<int>& grid, int step,
                   const ToleranceAt& tolerance) {
   return end_hidden(end_view(f, grid, step, tolerance, true));

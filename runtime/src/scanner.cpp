@@ -1960,6 +1960,17 @@ std::optional<PlaneFit> region_plane(const Frame& f, const std::vector<int>& mem
   const bool better = !params.support_fit_median_test ||
                       median_abs_residual(in, own.fit) < median_abs_residual(in, joint);
   if (apart && sure && near && better && own.fit.d > 0) return own.fit;
+  // Its tilt unsure (a small top far away), its height is not: the joint plane through
+  // its pixels' weighted mean, when that lies support_fit_sigmas of the height's standard
+  // error and more than the fixed band off the joint plane, and lies nearer its pixels.
+  if (!sure && params.support_fit_height_alone) {
+    const double h = dot(joint.n, Vec3{own.mean.x(), own.mean.y(), own.mean.z()}) + joint.d;
+    const PlaneFit shifted{joint.n, joint.d - h, true};
+    const bool off =
+        h * h * own.weight > z * z * own.sigma * own.sigma && std::abs(h) > params.plane_distance_m;
+    if (off && shifted.d > 0 && median_abs_residual(in, shifted) < median_abs_residual(in, joint))
+      return shifted;
+  }
   return std::nullopt;
 }
 
@@ -2307,13 +2318,23 @@ PlaneFit noise_fit_plane(const std::vector<Vec3>& pool, const std::vector<double
     // noise tilts its normals, but no column of it runs away from the camera. Without
     // this, such a band below the table was taken for the floor (the lowest plane keeps
     // all its regions: samples/recordings/tabletop's wall, 32 cm below its table).
+    // A region with no part seen from above is such a band, no part of the support
+    // (params.support_regions_seen_only).
     if (!planes.empty()) {
       std::vector<int> above;
-      for (const PlaneRegions& r : regions) {
-        const std::vector<int> seen = seen_from_above(f, r, ps.plane, params).members;
+      std::vector<char> unseen(regions.size(), 0);
+      for (size_t r = 0; r < regions.size(); ++r) {
+        const std::vector<int> seen = seen_from_above(f, regions[r], ps.plane, params).members;
         above.insert(above.end(), seen.begin(), seen.end());
+        unseen[r] = seen.empty();
       }
       if (!holds_support(f, above, ps.plane, params)) continue;
+      if (params.support_regions_seen_only) {
+        std::vector<PlaneRegions> kept;
+        for (size_t r = 0; r < regions.size(); ++r)
+          if (!unseen[r]) kept.push_back(std::move(regions[r]));
+        regions = std::move(kept);
+      }
     }
     kept_hull.emplace_back();
     kept_holds.push_back(-1);
@@ -2946,6 +2967,31 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
           dot(o.plane.n, found[k].plane.n) >= cos_tilt)
         surface_hulls[k].push_back(&o.hull);
   }
+  // Furniture cut by the height band: it reaches down to its support (its lower half is
+  // seen) and its top is the band's top, its front running on above it, across most of
+  // its width (top_cut_by_band). Found for every grid first: what runs on above it, which
+  // a raised support's reach takes, is known by its foot running on into these pixels.
+  std::vector<char> band_cut(grids.size(), 0);
+  parallel_for(grids.size(), [&](size_t g) {
+    const std::vector<int>& grid = grids[g];
+    if (static_cast<int>(grid.size()) * stride * stride < least_points(grid) / 2) return;
+    const PlaneFit& plane = found[static_cast<size_t>(mask[grid.front()] - 1)].plane;
+    double top_h = -1e9, bottom_h = 1e9;
+    for (int i : grid) {
+      const double h = dot(plane.n, to_vec(f.points[i])) + plane.d;
+      top_h = std::max(top_h, h);
+      bottom_h = std::min(bottom_h, h);
+    }
+    band_cut[g] = bottom_h < 0.5 * top_h &&
+                  top_cut_by_band(f, grid, stride, plane.n, plane.d, params, tolerance);
+  });
+  std::vector<char> in_band_cut;  // their pixels, when there are any and the rule is on
+  if (params.drop_above_band_cut && std::ranges::count(band_cut, 1) > 0) {
+    in_band_cut.assign(f.points.size(), 0);
+    for (size_t g = 0; g < grids.size(); ++g)
+      if (band_cut[g])
+        for (int i : grids[g]) in_band_cut[static_cast<size_t>(i)] = 1;
+  }
   std::vector<std::vector<Accepted>> accepted_of(grids.size());
   std::vector<std::vector<std::vector<int>>> parts_of(grids.size());
   std::vector<size_t> grid_sizes(grids.size());
@@ -2984,9 +3030,14 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     // It spans down to its support: its lower half is seen.
     const bool reaches_support = bottom_h < 0.5 * top_h;
     if (params.drop_cut_clusters && continues_above(f, grid, stride, plane, params)) continue;
-    // Furniture cut by the height band: it reaches down to its support and its top is
-    // the band's top, its front running on above it, across most of its width.
-    if (reaches_support && top_cut_by_band(f, grid, stride, plane.n, plane.d, params, tolerance))
+    // Furniture cut by the height band (band_cut).
+    if (band_cut[g]) continue;
+    // Or the part of such furniture above the band, which a raised support's reach
+    // took (a chair's back seen from behind, past the floor's band beside its seat).
+    if (!in_band_cut.empty() &&
+        foot_on_cut_body(
+            f, grid, stride, [&](int j) { return in_band_cut[static_cast<size_t>(j)] != 0; },
+            tolerance))
       continue;
     // The body of a support above its own (a cabinet or a shelf under its top, a box
     // whose top is the support): where the cluster reaches that support's height, its

@@ -257,6 +257,9 @@ TEST(FurnitureRules, ASeatSeenBehindItsBackIsPartial) {
   // top in front hides another's foot (session 33's): off too.
   without.fitted_foot_at_border = false;
   without.partial_when_foot_behind_higher = false;
+  // ... and every region of a later plane kept, not only those seen from above (session
+  // 36's support_regions_seen_only takes 5029's seat another way).
+  without.support_regions_seen_only = false;
   const Seen on = scan_seeds(seeds, true, kLabelBackChair, ScanParams{}, true);
   const Seen off = scan_seeds(seeds, true, kLabelBackChair, without, true);
   EXPECT_EQ(on.whole, 0);
@@ -966,4 +969,41 @@ TEST(FurnitureRules, APostSlantedInTheImageIsCutByTheBand) {
 }
 
 }  // namespace
+
+TEST(SupportRules, ABandAcrossACabinetsFrontIsNoPartOfTheSeatsSupport) {
+  // Fresh rooms 9723 (session 36): a chair's seat 43 cm up and a cabinet 48 cm tall 2.6 m
+  // away, a torus on its top. The seat's height band crosses the cabinet's front, and
+  // that strip, no part of it seen from above, was kept as one of the seat's regions:
+  // its reach took the cabinet's top, 5 cm higher, for the seat's noisy edge. The top
+  // was no support, the torus was given to the floor, and the cabinet was reported as a
+  // box 37 x 36 x 48 cm. Only regions seen from above make a support
+  // (support_regions_seen_only).
+  ScanParams without;
+  without.support_regions_seen_only = false;
+  expect_rule_takes({9723u}, true, kLabelFurniture, ScanParams{}, without, 1, true);
+}
+
+TEST(SupportRules, ASmallTopFarAwayLiesAtItsOwnHeight) {
+  // Rooms 5065 (session 36): a cabinet 47 cm tall 2.8 m away, a ball on its top. One
+  // height band's plane, fitted through the top, a seat and a board elsewhere, lay 2.3 cm
+  // above the top; the top's own tilt is unsure that far away, so it kept the joint
+  // plane, the ball stood on nothing, and the cabinet was reported as a box. Its height
+  // alone, from its own pixels, is sure (support_fit_height_alone).
+  ScanParams without;
+  without.support_fit_height_alone = false;
+  expect_rule_takes({5065u}, true, kLabelFurniture, ScanParams{}, without, 1, true);
+}
+
+TEST(FurnitureRules, AChairsBackAboveTheBandThatCutItIsNoProp) {
+  // Unseen rooms 7001 (session 36): a chair seen from behind 1.1 m away. The floor's
+  // height band cuts its back 15 cm above the seat (that part is furniture cut by the
+  // band); the back above, beyond the seat's seen part but within its reach, became a box
+  // 10 x 45 cm on the seat once the seat no longer kept a strip of the back across a
+  // higher board's band as its region (support_regions_seen_only). Its foot runs on into
+  // the cut part: it is that furniture (drop_above_band_cut).
+  ScanParams without;
+  without.drop_above_band_cut = false;
+  expect_rule_takes({7001u}, true, kLabelBackChair, ScanParams{}, without, 1, true);
+}
+
 }  // namespace annex

@@ -1030,6 +1030,10 @@ TEST(ScannerFar, ACylinderBesideABoardsSeenPartStandsOnTheBoard) {
   ScanParams before;
   before.seen_part_reach_m = 0;
   before.surface_max_incidence_deg = 90;
+  // ... and every region of the board's plane kept, as then: with only the regions seen
+  // from above (support_regions_seen_only, session 36) the board holds the cylinder
+  // without the reach too.
+  before.support_regions_seen_only = false;
   const Result<ScanResult> old = scan_frame(f.frame, before);
   ASSERT_TRUE(old.ok()) << old.error().format();
   EXPECT_EQ(cylinder_of(*old), nullptr);

@@ -93,6 +93,13 @@ struct ScanParams {
   // ... and when the own fit's tilt is known to within this (its standard error): a
   // shelf's narrow board gives a tilt the noise decides.
   double support_fit_max_se_deg = 0.05;
+  // ... or, its tilt unsure, its height alone (the found plane moved to its pixels'
+  // weighted mean) when that lies support_fit_sigmas of its standard error and more than
+  // plane_distance_m off the found plane, and nearer its pixels by their median
+  // distance: one band's plane through a cabinet's top 2.9 m away and a seat's and a
+  // board's at other heights lies 2.3 cm above the top (rooms 5065), and what stands on
+  // the top stands on nothing. false: off (before session 36).
+  bool support_fit_height_alone = true;
   // ... on the pixels whose neighbourhood (5 x 5 grid steps) faces within this angle of
   // the found plane's normal: a vertical face in the band (a table's apron seen from just
   // above its height) lies to one side of the surface. 0: every pixel (session 18).
@@ -102,6 +109,13 @@ struct ScanParams {
   // table's band leans the fit, and its standard errors do not show it). false: off.
   bool support_fit_median_test = true;
   double min_support_area_m2 = 0.04;
+  // A later plane keeps only its regions of which some part is seen from above: a
+  // region crossed by its height band on a vertical face (a cabinet's front at a chair
+  // seat's height) is no part of that support, and its reach would take the cabinet's
+  // top 5 cm above the seat for the seat's noisy edge (fresh rooms 9723: the top not
+  // found, the torus on it given to the floor, the cabinet reported a prop). false: every
+  // region that passed the tests (before session 36).
+  bool support_regions_seen_only = true;
   // ... and lie at least this far above or below the earlier supports,
   double min_support_gap_m = 0.06;
   // ... where they lie within reach (in the plane) of an earlier support's regions: a
@@ -225,6 +239,13 @@ struct ScanParams {
   // a cut front continues in nearly every column (depth noise and dropout lose some),
   // a prop's top meets the band's top in none. 0 turns the rule off.
   double cut_top_share = 0.5;
+  // A cluster whose foot runs on, with no depth step, into furniture the band cut (the
+  // rule above) is that furniture's part above the band, which a raised support's reach
+  // took: a chair's back seen from behind, rising past the floor's band beside its seat
+  // (unseen rooms 7001). What stands on a support has the support below its foot (or the
+  // object it stands on); a ball over a table's edge runs on into its own lower part,
+  // which no band cuts (furniture_rules.h, foot_on_cut_body). false: off.
+  bool drop_above_band_cut = true;
   // A support's front edge (a table top's, a shelf board's thickness) is at most this
   // thick: under a nearer support, the look-up from a cluster's top for that support's
   // surface runs on across edge pixels this far (tops are 2 to 5 cm thick; at 60 cm the
