@@ -43,10 +43,10 @@ bool top_cut_by_band(const Frame& f, const std::vector<int>& grid, int step, Vec
 // Whether the cluster is the upper part of a body the height band of a lower support
 // cut: in more than half of its grid columns (three at least) the first valid pixel one
 // to three grid rows below its lowest pixel continues its surface (no farther from it in
-// depth than the tolerance) and is a pixel `cut_below` names: a lower support's object
-// pixel at that support's band top (a chair's back seen from behind, rising past the
-// floor's band beside its seat, whose upper part the seat's reach takes). What stands on
-// its support has that support's surface below its foot, or the object it stands on.
+// depth than the tolerance) and is a pixel `cut_below` names: one of a cluster that
+// top_cut_by_band takes (a chair's back seen from behind, rising past the floor's band
+// beside its seat, whose upper part the seat's reach takes). What stands on its support
+// has that support's surface below its foot, or the object it stands on.
 bool foot_on_cut_body(const Frame& f, const std::vector<int>& grid, int step,
                       const std::function<bool(int)>& cut_below, const ToleranceAt& tolerance);
 

@@ -244,28 +244,6 @@ bool footprint_waist(const MeansCut& cut, double waist_share) {
   return narrowest < waist_share * ends;
 }
 
-// Whether the cluster's foot, its pixels in the lowest params.foot_share of its height
-// above its support, narrows between the means (footprint_waist): two bodies side by side
-// stand on two feet, with a gap or a waist between them, while one body's foot is one
-// convex outline and a handle or a spout rising from its side has none of its own (the
-// milk frame's bottle). The means are the whole footprint's.
-bool foot_narrows(const Frame& f, const ScanCluster& c, const MeansCut& means,
-                  const TouchingSplitParams& params) {
-  if (means.q.size() != c.pixels.size()) return false;
-  std::vector<double> h(c.pixels.size());
-  double top = 0;
-  for (size_t k = 0; k < c.pixels.size(); ++k) {
-    const PointXYZRGB& p = f.points[static_cast<size_t>(c.pixels[k])];
-    h[k] = dot(c.support.normal, Vec3{p.x, p.y, p.z}) + c.support.d;
-    top = std::max(top, h[k]);
-  }
-  MeansCut foot;
-  foot.m0 = means.m0, foot.m1 = means.m1;
-  for (size_t k = 0; k < h.size(); ++k)
-    if (h[k] <= params.foot_share * top) foot.q.push_back(means.q[k]);
-  return footprint_waist(foot, params.waist_share);
-}
-
 // The criterion (touching_split.h) of a cut into parts a and b against the whole.
 struct Criterion {
   double one = 0, two = 0;
@@ -396,10 +374,6 @@ std::optional<TouchingCut> touching_cut(
   const double least = std::max(params.min_part_share * static_cast<double>(cluster.pixels.size()),
                                 static_cast<double>(min_points));
   const MeansCut means = two_means(f, cluster, params.min_part_share, min_points);
-  // Explained that well, it is tried only on two feet: the refits cost as much whether
-  // the cut is kept or not.
-  if (whole.coverage >= params.two_feet_coverage && !foot_narrows(f, cluster, means, params))
-    return std::nullopt;
   const auto narrows = [&] {
     return params.waist_share > 0 && footprint_waist(means, params.waist_share);
   };

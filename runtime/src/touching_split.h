@@ -12,9 +12,7 @@
 // independent points. When that cut is not kept (the means halve the larger of two
 // bodies that differ in size), the cluster is cut along what the one primitive leaves
 // out, when that lies beside it. Either cut is kept only when the two parts stand side
-// by side, not round one axis. A cluster its one primitive explains nearly well enough is
-// tried only when it stands on two feet (its lowest quarter narrows between the means):
-// the refits cost as much whether the cut is kept or not. Private to the scanner.
+// by side, not round one axis. Private to the scanner.
 
 #include <functional>
 #include <optional>
@@ -28,13 +26,7 @@ namespace annex {
 struct TouchingSplitParams {
   // Only a cluster whose shape explains less than this share of its points is tried
   // (ScanParams::touching_max_coverage); 0: none.
-  double max_whole_coverage = 0.85;
-  // A cluster explained over at least this share (and under max_whole_coverage) is tried
-  // only when its foot narrows between the two means, by waist_share: two bodies stand on
-  // two feet, a body with a handle on one (ScanParams::touching_two_feet_coverage).
-  double two_feet_coverage = 0.8;
-  // Its foot: its pixels in this lowest share of its height above its support.
-  double foot_share = 0.25;
+  double max_whole_coverage = 0.8;
   // Each part's shape explains at least this share of its points
   // (ScanParams::touching_part_coverage).
   double min_part_coverage = 0.8;
