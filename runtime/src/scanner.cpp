@@ -1957,8 +1957,9 @@ std::optional<PlaneFit> region_plane(const Frame& f, const std::vector<int>& mem
   // whose band holds a chair's seat behind the table leans toward the seat, and its
   // standard errors do not show it (unseen rooms 7030: 1.5 degrees off the truth, the
   // found plane 0.03).
-  const bool better = !params.support_fit_median_test ||
-                      median_abs_residual(in, own.fit) < median_abs_residual(in, joint);
+  const double joint_median = median_abs_residual(in, joint);
+  const bool better =
+      !params.support_fit_median_test || median_abs_residual(in, own.fit) < joint_median;
   if (apart && sure && near && better && own.fit.d > 0) return own.fit;
   // Its tilt unsure (a small top far away), its height is not: the joint plane through
   // its pixels' weighted mean, when that lies support_fit_sigmas of the height's standard
@@ -1968,8 +1969,7 @@ std::optional<PlaneFit> region_plane(const Frame& f, const std::vector<int>& mem
     const PlaneFit shifted{joint.n, joint.d - h, true};
     const bool off =
         h * h * own.weight > z * z * own.sigma * own.sigma && std::abs(h) > params.plane_distance_m;
-    if (off && shifted.d > 0 && median_abs_residual(in, shifted) < median_abs_residual(in, joint))
-      return shifted;
+    if (off && shifted.d > 0 && median_abs_residual(in, shifted) < joint_median) return shifted;
   }
   return std::nullopt;
 }
@@ -2322,19 +2322,14 @@ PlaneFit noise_fit_plane(const std::vector<Vec3>& pool, const std::vector<double
     // (params.support_regions_seen_only).
     if (!planes.empty()) {
       std::vector<int> above;
-      std::vector<char> unseen(regions.size(), 0);
-      for (size_t r = 0; r < regions.size(); ++r) {
-        const std::vector<int> seen = seen_from_above(f, regions[r], ps.plane, params).members;
+      std::vector<PlaneRegions> kept;
+      for (PlaneRegions& r : regions) {
+        const std::vector<int> seen = seen_from_above(f, r, ps.plane, params).members;
         above.insert(above.end(), seen.begin(), seen.end());
-        unseen[r] = seen.empty();
+        if (!seen.empty() || !params.support_regions_seen_only) kept.push_back(std::move(r));
       }
       if (!holds_support(f, above, ps.plane, params)) continue;
-      if (params.support_regions_seen_only) {
-        std::vector<PlaneRegions> kept;
-        for (size_t r = 0; r < regions.size(); ++r)
-          if (!unseen[r]) kept.push_back(std::move(regions[r]));
-        regions = std::move(kept);
-      }
+      regions = std::move(kept);
     }
     kept_hull.emplace_back();
     kept_holds.push_back(-1);
@@ -2986,7 +2981,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
                   top_cut_by_band(f, grid, stride, plane.n, plane.d, params, tolerance);
   });
   std::vector<char> in_band_cut;  // their pixels, when there are any and the rule is on
-  if (params.drop_above_band_cut && std::ranges::count(band_cut, 1) > 0) {
+  if (params.drop_above_band_cut && std::ranges::find(band_cut, 1) != band_cut.end()) {
     in_band_cut.assign(f.points.size(), 0);
     for (size_t g = 0; g < grids.size(); ++g)
       if (band_cut[g])
