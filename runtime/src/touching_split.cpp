@@ -244,6 +244,52 @@ bool footprint_waist(const MeansCut& cut, double waist_share) {
   return narrowest < waist_share * ends;
 }
 
+// Whether the footprint's range from the camera (q is the camera frame's points on the
+// support's axes, so the camera is at 0, 0) recedes between the two means by more than
+// `depth` from its nearest on both sides (stands_on_two_feet). Bins as footprint_waist's;
+// an empty bin tells nothing (a far foot leaves some empty).
+bool front_notched(const MeansCut& cut, double depth) {
+  constexpr int kBins = 16;
+  const std::array<double, 2> u{cut.m1[0] - cut.m0[0], cut.m1[1] - cut.m0[1]};
+  const double len2 = u[0] * u[0] + u[1] * u[1];
+  if (!(len2 > 0)) return false;
+  std::array<double, kBins + 2> near;
+  near.fill(1e9);
+  for (const auto& q : cut.q) {
+    const double along = ((q[0] - cut.m0[0]) * u[0] + (q[1] - cut.m0[1]) * u[1]) / len2;
+    const int b = static_cast<int>(std::floor((along + 1.0 / kBins) * kBins));
+    if (b < 0 || b > kBins + 1) continue;
+    near[static_cast<size_t>(b)] = std::min(near[static_cast<size_t>(b)], std::hypot(q[0], q[1]));
+  }
+  // The nearest range from either end up to each bin.
+  std::array<double, kBins + 2> from_m0 = near, from_m1 = near;
+  for (size_t b = 1; b < near.size(); ++b) from_m0[b] = std::min(from_m0[b], from_m0[b - 1]);
+  for (size_t b = near.size() - 1; b-- > 0;) from_m1[b] = std::min(from_m1[b], from_m1[b + 1]);
+  for (size_t b = 2; b < kBins; ++b)
+    if (near[b] < 1e9 && near[b] > from_m0[b - 1] + depth && near[b] > from_m1[b + 1] + depth)
+      return true;
+  return false;
+}
+
+// Whether the cluster stands on two feet (stands_on_two_feet), given its two means.
+bool two_feet(const Frame& f, const ScanCluster& c, const MeansCut& means, double depth_m,
+              const TouchingSplitParams& params) {
+  if (means.q.size() != c.pixels.size()) return false;
+  std::vector<double> h(c.pixels.size());
+  double top = 0;
+  for (size_t k = 0; k < c.pixels.size(); ++k) {
+    const PointXYZRGB& p = f.points[static_cast<size_t>(c.pixels[k])];
+    h[k] = dot(c.support.normal, Vec3{p.x, p.y, p.z}) + c.support.d;
+    top = std::max(top, h[k]);
+  }
+  MeansCut foot;
+  foot.m0 = means.m0, foot.m1 = means.m1;
+  for (size_t k = 0; k < h.size(); ++k)
+    if (h[k] <= params.foot_share * top) foot.q.push_back(means.q[k]);
+  return footprint_waist(foot, params.waist_share) &&
+         front_notched(foot, params.notch_sigmas * kinect_sigma_z(depth_m));
+}
+
 // The criterion (touching_split.h) of a cut into parts a and b against the whole.
 struct Criterion {
   double one = 0, two = 0;
@@ -374,6 +420,11 @@ std::optional<TouchingCut> touching_cut(
   const double least = std::max(params.min_part_share * static_cast<double>(cluster.pixels.size()),
                                 static_cast<double>(min_points));
   const MeansCut means = two_means(f, cluster, params.min_part_share, min_points);
+  // Explained that well, it is tried only on two feet: the refits cost as much whether
+  // the cut is kept or not.
+  if (whole.coverage >= params.two_feet_coverage &&
+      !two_feet(f, cluster, means, whole.depth, params))
+    return std::nullopt;
   const auto narrows = [&] {
     return params.waist_share > 0 && footprint_waist(means, params.waist_share);
   };
@@ -393,6 +444,14 @@ std::optional<TouchingCut> touching_cut(
   if (out < least || kept < out) return std::nullopt;
   if (!beside_primitive(f, cluster, left_out)) return std::nullopt;
   return refit_cut(f, cluster, left_out, whole, least, refit, shape, params);
+}
+
+bool stands_on_two_feet(const Frame& f, const ScanCluster& cluster,
+                        const TouchingSplitParams& params) {
+  const FitTerms whole = terms_of(f, cluster);
+  const int min_points = min_part_pixels(params.min_part_size_m, whole.depth, whole.focal_px);
+  return two_feet(f, cluster, two_means(f, cluster, params.min_part_share, min_points), whole.depth,
+                  params);
 }
 
 }  // namespace annex
