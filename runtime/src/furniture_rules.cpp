@@ -330,8 +330,12 @@ bool runs_below_support(const Frame& f, const std::vector<int>& grid, int step, 
       const Vec3 dq = q - p;
       if (norm(dq - n * dot(n, dq)) > tol) {
         // The face ends at another surface: below the plane, at the support's own
-        // surface nearer to the camera, its edge hiding the rest of the face.
-        behind += under && q.z < p.z && surface_of[static_cast<size_t>(j)] == support;
+        // surface nearer to the camera, its edge hiding the rest of the face, or at what
+        // stands on that surface in front of the edge (above the height band).
+        const bool on_support =
+            surface_of[static_cast<size_t>(j)] == support ||
+            (params.below_support_ends_at_objects && dot(n, q) + d > params.min_height_m);
+        behind += under && q.z < p.z && on_support;
         break;
       }
       seen = true;

@@ -184,7 +184,9 @@ std::optional<Vec3> upright_panel(const Frame& f, const std::vector<int>& grid, 
 // the support's plane around it (own_support_around) by more than
 // params.below_support_sigmas times the height noise there (sigma_z times the ray's
 // slope against the plane) and at least 3 mm, and ends at the support's own surface
-// (`surface_of`) nearer to the camera. A chair's back behind the table, or what stands on
+// (`surface_of`) nearer to the camera, or with params.below_support_ends_at_objects at
+// what stands on it there (higher than params.min_height_m). A chair's back behind the
+// table, or what stands on
 // the floor behind it, runs on below the table's height until the table's edge hides it:
 // no one sees its foot (the scanner flags it partial). What stands on the support ends at
 // its surface; a box stacked flush on another runs on down the lower one's front to the

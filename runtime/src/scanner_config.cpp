@@ -121,6 +121,8 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"panel_noise_factor", Kind::non_negative, &p.panel_noise_factor},
       {"panel_span_share", Kind::non_negative, &p.panel_span_share},
       {"below_support_sigmas", Kind::non_negative, &p.below_support_sigmas},
+      {"below_support_ends_at_objects", Kind::flag, nullptr, nullptr, 0,
+       &p.below_support_ends_at_objects},
       {"edge_room_factor", Kind::non_negative, &p.edge_room_factor},
       {"support_fit_sigmas", Kind::non_negative, &p.support_fit_sigmas},
       {"support_fit_max_se_deg", Kind::non_negative, &p.support_fit_max_se_deg},

@@ -361,6 +361,7 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->support_regions_seen_only, d.support_regions_seen_only);
   EXPECT_EQ(p->support_fit_height_alone, d.support_fit_height_alone);
   EXPECT_EQ(p->drop_above_band_cut, d.drop_above_band_cut);
+  EXPECT_EQ(p->below_support_ends_at_objects, d.below_support_ends_at_objects);
   EXPECT_EQ(p->touching_waist_share, d.touching_waist_share);
   EXPECT_EQ(p->touching_min_part_size_m, d.touching_min_part_size_m);
   EXPECT_EQ(p->part_fit_slack, d.part_fit_slack);

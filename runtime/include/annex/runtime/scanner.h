@@ -312,6 +312,12 @@ struct ScanParams {
   // sees its foot. What stands on the support ends at its surface (furniture_rules.h,
   // runs_below_support). 0: off.
   double below_support_sigmas = 3.0;
+  // ... or meets, nearer, what stands on that support in front of its edge (a point more
+  // than min_height_m above its plane): a chair's back behind the table 3.6 m away, the
+  // objects on the table hiding the table's edge below it (rooms 5088). What stands on
+  // the support ends at its surface, and a box stacked flush on another runs on down to
+  // the floor, below its support. false: the support's surface alone.
+  bool below_support_ends_at_objects = true;
   // A cluster on a raised furniture support (its seen hull above furniture_area_m2) is
   // flagged partial when, in most of its columns, that support's surface (its regions on
   // its plane) ends less than this many clustering tolerances (the depth noise along
