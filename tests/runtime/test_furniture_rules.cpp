@@ -710,6 +710,17 @@ WholeCount whole_in_rooms(const std::vector<std::uint64_t>& seeds, const ScanPar
   return c;
 }
 
+// With the defaults no furniture on `seeds` is reported whole, and with `without` (a rule
+// off) some is, while the true props found whole are the same.
+void expect_default_takes_furniture(const std::vector<std::uint64_t>& seeds,
+                                    const ScanParams& without) {
+  const WholeCount on = whole_in_rooms(seeds, ScanParams{});
+  const WholeCount off = whole_in_rooms(seeds, without);
+  EXPECT_EQ(on.furniture, 0);
+  EXPECT_GE(off.furniture, 1);
+  EXPECT_EQ(on.props, off.props);
+}
+
 TEST(SupportRules, WhatStandsBehindTheSupportsFarEdgeIsPartial) {
   // Fresh rooms 8015, 8088 and 8094 and held-out room 5034 (session 17): a chair's back
   // behind the table's far edge (1.5 to 3.3 m away) and a cabinet's top strip came out
@@ -738,11 +749,7 @@ TEST(SupportRules, WhatStandsBehindObjectsAtTheSupportsFarEdgeIsPartial) {
   // edge: a foot no one sees. No true object loses its vote.
   ScanParams without;
   without.below_support_ends_at_objects = false;
-  const WholeCount on = whole_in_rooms({5088u}, ScanParams{});
-  const WholeCount off = whole_in_rooms({5088u}, without);
-  EXPECT_EQ(on.furniture, 0);
-  EXPECT_GE(off.furniture, 1);
-  EXPECT_EQ(on.props, off.props);
+  expect_default_takes_furniture({5088u}, without);
 }
 
 TEST(SupportRules, WhatStandsAtARaisedSupportsFarEdgeIsPartial) {
@@ -757,11 +764,7 @@ TEST(SupportRules, WhatStandsAtARaisedSupportsFarEdgeIsPartial) {
   // The band as before session 27 (band_along_ray): with the band along the rays the
   // back is no whole prop without this rule either.
   without.band_along_ray = false;
-  const WholeCount on = whole_in_rooms({7030u}, ScanParams{});
-  const WholeCount off = whole_in_rooms({7030u}, without);
-  EXPECT_EQ(on.furniture, 0);
-  EXPECT_GE(off.furniture, 1);
-  EXPECT_EQ(on.props, off.props);
+  expect_default_takes_furniture({7030u}, without);
 }
 
 double degrees_between(Vec3 a, Vec3 b) {
