@@ -143,16 +143,36 @@ void speed(const Frame& frame, const char* label, int repeat, int pcl_repeat, in
     return pool_per_scan ? scan_frame(f, params) : scan_frame(f, params, workers);
   };
   auto pcl = [](const Frame& f) { return scan_frame_pcl_reference(f); };
+  // The same scan with the flat surfaces for virtual panels (plane_candidates: on in
+  // `annex-runtime scan` and in a session whose spec holds a plane), each run beside one
+  // of ours: what `scan` takes, apart from the comparison with PCL, which finds none.
+  ScanParams with_surfaces = params;
+  with_surfaces.plane_candidates = true;
+  Timings surfaces;
+  surfaces.name = "annex+surf";
+  auto annex_surfaces = [&](const Frame& f) {
+    return pool_per_scan ? scan_frame(f, with_surfaces) : scan_frame(f, with_surfaces, workers);
+  };
   ours.run(frame, annex);  // warm-up: first-touch allocations, caches
+  surfaces.run(frame, annex_surfaces);
   ours = Timings{};
   ours.name = "annex";
+  surfaces = Timings{};
+  surfaces.name = "annex+surf";
   const int rounds = std::max(1, pcl_repeat);
   for (int r = 0; r < rounds; ++r) {
     const int share = repeat * (r + 1) / rounds - repeat * r / rounds;
-    for (int i = 0; i < share; ++i) ours.run(frame, annex);
+    for (int i = 0; i < share; ++i) {
+      ours.run(frame, annex);
+      surfaces.run(frame, annex_surfaces);
+    }
     if (pcl_repeat > 0) theirs.run(frame, pcl);
   }
   ours.print();
+  surfaces.print();
+  if (!ours.wall.empty() && !surfaces.wall.empty() && !ours.failed && !surfaces.failed)
+    std::printf("  flat surfaces add: wall median %.1f ms, cpu median %.1f ms\n",
+                median(surfaces.wall) - median(ours.wall), median(surfaces.cpu) - median(ours.cpu));
   theirs.print();
   if (!ours.wall.empty() && !theirs.wall.empty() && !ours.failed && !theirs.failed) {
     auto lo = [](const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); };
