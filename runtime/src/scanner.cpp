@@ -2962,6 +2962,16 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
           dot(o.plane.n, found[k].plane.n) >= cos_tilt)
         surface_hulls[k].push_back(&o.hull);
   }
+  // Each object-sized grid measured once on its support's plane: its width across the
+  // view (along the camera's x axis laid on the plane: a box seen face-on shows no depth,
+  // but its full width), its top and lowest point above the support.
+  struct Extent {
+    bool object_sized = false;
+    int min_points = 0;
+    double x_lo = 1e9, x_hi = -1e9, top_h = -1e9, bottom_h = 1e9, top_z = 0;
+    Vec3 low{0, 0, 0};  // its lowest point
+  };
+  std::vector<Extent> extents(grids.size());
   // Furniture cut by the height band: it reaches down to its support (its lower half is
   // seen) and its top is the band's top, its front running on above it, across most of
   // its width (top_cut_by_band). Found for every grid first: what runs on above it, which
@@ -2969,15 +2979,21 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   std::vector<char> band_cut(grids.size(), 0);
   parallel_for(grids.size(), [&](size_t g) {
     const std::vector<int>& grid = grids[g];
-    if (static_cast<int>(grid.size()) * stride * stride < least_points(grid) / 2) return;
+    Extent& e = extents[g];
+    e.min_points = least_points(grid);
+    e.object_sized = static_cast<int>(grid.size()) * stride * stride >= e.min_points / 2;
+    if (!e.object_sized) return;
     const PlaneFit& plane = found[static_cast<size_t>(mask[grid.front()] - 1)].plane;
-    double top_h = -1e9, bottom_h = 1e9;
+    const Vec3 view_x = normalized(Vec3{1, 0, 0} - plane.n * plane.n.x);
     for (int i : grid) {
-      const double h = dot(plane.n, to_vec(f.points[i])) + plane.d;
-      top_h = std::max(top_h, h);
-      bottom_h = std::min(bottom_h, h);
+      const Vec3 p = to_vec(f.points[i]);
+      e.x_lo = std::min(e.x_lo, dot(view_x, p));
+      e.x_hi = std::max(e.x_hi, dot(view_x, p));
+      const double h = dot(plane.n, p) + plane.d;
+      if (h > e.top_h) e.top_h = h, e.top_z = p.z;
+      if (h < e.bottom_h) e.bottom_h = h, e.low = p;
     }
-    band_cut[g] = bottom_h < 0.5 * top_h &&
+    band_cut[g] = e.bottom_h < 0.5 * e.top_h &&
                   top_cut_by_band(f, grid, stride, plane.n, plane.d, params, tolerance);
   });
   std::vector<char> in_band_cut;  // their pixels, when there are any and the rule is on
@@ -3005,23 +3021,12 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     const int k = mask[grid.front()] - 1;
     if (!result.supports[static_cast<size_t>(k)].selected) continue;
     const PlaneFit& plane = found[static_cast<size_t>(k)].plane;
-    const int min_points = least_points(grid);
-    if (static_cast<int>(grid.size()) * stride * stride < min_points / 2) continue;
-    // Its width across the view and its top above its support. Widths are measured
-    // along the camera's x axis laid on the plane: a box seen face-on shows no depth,
-    // but its full width.
-    const Vec3 view_x = normalized(Vec3{1, 0, 0} - plane.n * plane.n.x);
-    double x_lo = 1e9, x_hi = -1e9, top_h = -1e9, bottom_h = 1e9, top_z = 0;
-    Vec3 low{0, 0, 0};  // its lowest point
-    for (int i : grid) {
-      const Vec3 p = to_vec(f.points[i]);
-      x_lo = std::min(x_lo, dot(view_x, p));
-      x_hi = std::max(x_hi, dot(view_x, p));
-      const double h = dot(plane.n, p) + plane.d;
-      if (h > top_h) top_h = h, top_z = p.z;
-      if (h < bottom_h) bottom_h = h, low = p;
-    }
-    const double width = x_hi - x_lo;
+    const Extent& extent = extents[g];
+    if (!extent.object_sized) continue;
+    const int min_points = extent.min_points;
+    const double x_lo = extent.x_lo, x_hi = extent.x_hi, width = x_hi - x_lo;
+    const double top_h = extent.top_h, bottom_h = extent.bottom_h, top_z = extent.top_z;
+    const Vec3 low = extent.low;
     // It spans down to its support: its lower half is seen.
     const bool reaches_support = bottom_h < 0.5 * top_h;
     if (params.drop_cut_clusters && continues_above(f, grid, stride, plane, params)) continue;
