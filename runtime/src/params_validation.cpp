@@ -85,6 +85,7 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.range("touching_max_coverage", p.touching_max_coverage, 0, 1);
   c.range("touching_part_coverage", p.touching_part_coverage, 0, 1);
   c.range("touching_two_feet_coverage", p.touching_two_feet_coverage, 0, 1);
+  c.non_negative("touching_gap_evidence", p.touching_gap_evidence);
   c.range("touching_waist_share", p.touching_waist_share, 0, 1);
   c.positive("touching_min_part_size_m", p.touching_min_part_size_m);
   c.range("min_support_seen_share", p.min_support_seen_share, 0, 1);

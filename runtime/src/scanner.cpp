@@ -3340,6 +3340,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   };
   const TouchingSplitParams touching{.max_whole_coverage = params.touching_max_coverage,
                                      .two_feet_coverage = params.touching_two_feet_coverage,
+                                     .gap_evidence = params.touching_gap_evidence,
                                      .min_part_coverage = params.touching_part_coverage,
                                      .min_part_size_m = params.touching_min_part_size_m,
                                      .waist_share = params.touching_waist_share,

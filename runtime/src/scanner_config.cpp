@@ -78,6 +78,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"touching_max_coverage", Kind::unit_share, &p.touching_max_coverage},
       {"touching_part_coverage", Kind::unit_share, &p.touching_part_coverage},
       {"touching_two_feet_coverage", Kind::unit_share, &p.touching_two_feet_coverage},
+      {"touching_gap_evidence", Kind::non_negative, &p.touching_gap_evidence},
       {"touching_waist_share", Kind::unit_share, &p.touching_waist_share},
       {"touching_misfit_cut", Kind::flag, nullptr, nullptr, 0, &p.touching_misfit_cut},
       {"touching_min_part_size_m", Kind::positive, &p.touching_min_part_size_m},

@@ -246,20 +246,26 @@ bool footprint_waist(const MeansCut& cut, double waist_share) {
 
 // Whether the footprint's range from the camera (q is the camera frame's points on the
 // support's axes, so the camera is at 0, 0) recedes between the two means by more than
-// `depth` from its nearest on both sides (stands_on_two_feet). Bins as footprint_waist's;
-// an empty bin tells nothing (a far foot leaves some empty).
-bool front_notched(const MeansCut& cut, double depth) {
+// `depth` from its nearest on both sides (stands_on_two_feet), or the footprint is seen
+// in two pieces: a run of empty bins between the means that its sampling does not
+// explain. Bins as footprint_waist's. A far foot leaves single bins empty at random: a
+// bin holding on average `lambda` points (those seen over the bins that hold any) is
+// empty with probability exp(-lambda), so a run of r empty bins counts when
+// lambda r >= gap_evidence (exp(-gap_evidence): the chance it is sampling's).
+bool front_notched(const MeansCut& cut, double depth, double gap_evidence) {
   constexpr int kBins = 16;
   const std::array<double, 2> u{cut.m1[0] - cut.m0[0], cut.m1[1] - cut.m0[1]};
   const double len2 = u[0] * u[0] + u[1] * u[1];
   if (!(len2 > 0)) return false;
   std::array<double, kBins + 2> near;
   near.fill(1e9);
+  size_t binned = 0;
   for (const auto& q : cut.q) {
     const double along = ((q[0] - cut.m0[0]) * u[0] + (q[1] - cut.m0[1]) * u[1]) / len2;
     const int b = static_cast<int>(std::floor((along + 1.0 / kBins) * kBins));
     if (b < 0 || b > kBins + 1) continue;
     near[static_cast<size_t>(b)] = std::min(near[static_cast<size_t>(b)], std::hypot(q[0], q[1]));
+    ++binned;
   }
   // The nearest range from either end up to each bin.
   std::array<double, kBins + 2> from_m0 = near, from_m1 = near;
@@ -268,6 +274,15 @@ bool front_notched(const MeansCut& cut, double depth) {
   for (size_t b = 2; b < kBins; ++b)
     if (near[b] < 1e9 && near[b] > from_m0[b - 1] + depth && near[b] > from_m1[b + 1] + depth)
       return true;
+  if (gap_evidence <= 0) return false;
+  const auto filled = std::count_if(near.begin(), near.end(), [](double r) { return r < 1e9; });
+  const double lambda =
+      static_cast<double>(binned) / static_cast<double>(std::max<std::ptrdiff_t>(1, filled));
+  int run = 0;
+  for (size_t b = 2; b < kBins; ++b) {
+    run = near[b] < 1e9 ? 0 : run + 1;
+    if (from_m0[b - 1] < 1e9 && from_m1[b + 1] < 1e9 && lambda * run >= gap_evidence) return true;
+  }
   return false;
 }
 
@@ -287,7 +302,7 @@ bool two_feet(const Frame& f, const ScanCluster& c, const MeansCut& means, doubl
   for (size_t k = 0; k < h.size(); ++k)
     if (h[k] <= params.foot_share * top) foot.q.push_back(means.q[k]);
   return footprint_waist(foot, params.waist_share) &&
-         front_notched(foot, params.notch_sigmas * kinect_sigma_z(depth_m));
+         front_notched(foot, params.notch_sigmas * kinect_sigma_z(depth_m), params.gap_evidence);
 }
 
 // The criterion (touching_split.h) of a cut into parts a and b against the whole.

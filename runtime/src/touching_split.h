@@ -40,6 +40,10 @@ struct TouchingSplitParams {
   // sigma), while two bodies side by side recede by their radii (rooms 5061, 9748, 10092
   // at 2.2 to 2.6 m: 1.8 to 3.1 sigma).
   double notch_sigmas = 1.5;
+  // ... or its foot is seen in two pieces: a run of empty bins between the means whose
+  // chance under the foot's sampling is below exp(-gap_evidence)
+  // (ScanParams::touching_gap_evidence); 0: the notch alone.
+  double gap_evidence = 6.9;  // ln(1000)
   // Each part's shape explains at least this share of its points
   // (ScanParams::touching_part_coverage).
   double min_part_coverage = 0.8;

@@ -358,6 +358,7 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->touching_max_coverage, d.touching_max_coverage);
   EXPECT_EQ(p->touching_part_coverage, d.touching_part_coverage);
   EXPECT_EQ(p->touching_two_feet_coverage, d.touching_two_feet_coverage);
+  EXPECT_EQ(p->touching_gap_evidence, d.touching_gap_evidence);
   EXPECT_EQ(p->support_regions_seen_only, d.support_regions_seen_only);
   EXPECT_EQ(p->support_fit_height_alone, d.support_fit_height_alone);
   EXPECT_EQ(p->drop_above_band_cut, d.drop_above_band_cut);

@@ -456,6 +456,11 @@ struct ScanParams {
   // 1: every cluster under the gate is tried (0.8 and 1 were the defaults before
   // session 37).
   double touching_two_feet_coverage = 0.8;
+  // ... or whose foot is seen in two pieces: between the means a run of bins holding no
+  // point of it, whose chance under the foot's own sampling (a far foot leaves single
+  // bins empty) is below exp(-touching_gap_evidence). 0: the front's notch alone (before
+  // session 38; fresh rooms 8084's sphere against a tin 3 m away stayed one object).
+  double touching_gap_evidence = 6.9;  // ln(1000)
   // ... and refitted in two when what its primitive leaves out lies on one side of the
   // cut, or when its footprint narrows between the cut's two means to under this share
   // of its width at the narrower one: a convex body's footprint never narrows between
