@@ -9,7 +9,7 @@
 //             distance band, a confusion matrix per shape, false props and slivers.
 // Usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N]
 //        [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only]
-//        [--pool-per-scan] [--verbose] [--png-dir DIR]
+//        [--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N]
 //        (--repeat: our scans per frame, 30; --pcl-repeat: PCL's, interleaved with ours,
 //        default max(5, repeat / 3); --threads: our worker threads, 2; --speed-only: the
 //        speed section alone, e.g. under callgrind; --pool-per-scan: every scan starts its
@@ -19,7 +19,8 @@
 //        --world-seed: the world set's first seed, 2001: the tuned set; 5001: held out;
 //        --rooms: room_scene_params, table heights 0.4-1.1 m, a rolled camera, chairs,
 //        shelves and objects on their boards, objects on the floor, touching, across a table
-//        edge, dark)
+//        edge, dark; --downsample N: the world set's frames as a sensor of 1/N the
+//        resolution sees them, every N-th pixel of every N-th row)
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -403,12 +404,34 @@ void tally_feature(BandTally& b, const PhysicalPrimitive& tp, const PhysicalObje
   for (size_t i = 0; i < a.size() && i < g.size(); ++i) b.errors.push_back(std::abs(a[i] - g[i]));
 }
 
+// The frame a sensor of 1/n the resolution sees of the same scene (every n-th pixel of
+// every n-th row, as a 320 x 240 stream or a phone's depth map sees a room the Kinect
+// sees at 640 x 480; the points keep their depth noise), its labels and its truth's
+// pixel counts with it. Its intrinsics stay the Kinect's: grid_intrinsics scales them.
+SyntheticFrame subsampled(const SyntheticScene& scene, const SyntheticFrame& f, int n) {
+  if (n <= 1) return f;
+  SyntheticFrame out;
+  out.frame = f.frame;
+  out.frame.width = f.frame.width / n;
+  out.frame.height = f.frame.height / n;
+  out.frame.points.clear();
+  for (int y = 0; y < out.frame.height; ++y)
+    for (int x = 0; x < out.frame.width; ++x) {
+      const size_t i = static_cast<size_t>(y * n) * f.frame.width + static_cast<size_t>(x * n);
+      out.frame.points.push_back(f.frame.points[i]);
+      out.labels.push_back(f.labels[i]);
+    }
+  out.truth = ground_truth(scene, &out.frame, &out.labels);
+  return out;
+}
+
 // `first_seed`: the first scene's seed (2001, the set the scanner was tuned on; any
 // other start is a held-out set).
 // `room`: room_scene_params (table heights 0.4-1.1 m, camera roll) instead of
 // world_scene_params.
+// `downsample`: the frames seen by a sensor of 1/n the resolution (subsampled).
 void world_set(int scenes, int first_seed, bool room, bool verbose, const std::string& png_dir,
-               const ScanParams& params) {
+               const ScanParams& params, int downsample) {
   const char* bands[] = {"< 1.5 m", "1.5-2.5 m", "> 2.5 m"};
   BandTally tally[3];
   std::map<std::string, std::map<std::string, int>> confusion;
@@ -431,7 +454,7 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
       std::printf("  seed %d: %s\n", seed, scene.error().format().c_str());
       continue;
     }
-    const SyntheticFrame f = render_scene(*scene);
+    const SyntheticFrame f = subsampled(*scene, render_scene(*scene), downsample);
     for (int label : {kLabelBackChair, kLabelCabinet, kLabelPole})
       extra_scenes[label] += std::find(f.labels.begin(), f.labels.end(), label) != f.labels.end();
     const auto t0 = Clock::now();
@@ -738,6 +761,7 @@ void real_clusters(const Frame& frame) {
 
 int main(int argc, char** argv) {
   int repeat = 30, scenes = 100, world = 60, world_seed = 2001, pcl_repeat = -1, threads = ScanParams{}.threads;
+  int downsample = 1;
   bool pcl = true, world_only = false, speed_only = false, verbose = false, room = false;
   bool pool_per_scan = false;
   std::string png_dir;
@@ -759,6 +783,8 @@ int main(int argc, char** argv) {
     else if (a == "--world-only") world_only = true;
     else if (a == "--verbose") verbose = true;
     else if (a == "--png-dir" && i + 1 < argc) png_dir = argv[++i];
+    else if (a == "--downsample" && i + 1 < argc)
+      downsample = std::clamp(std::atoi(argv[++i]), 1, 8);
     else if (a == "--scan-conf" && i + 1 < argc) {
       const Result<ScanParams> conf = read_scan_config_file(argv[++i]);
       if (!conf) {
@@ -768,12 +794,16 @@ int main(int argc, char** argv) {
       world_params = *conf;
       world_params.plane_candidates = false;
     } else {
-      std::fprintf(stderr, "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N] [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] [--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE]\n");
+      std::fprintf(
+          stderr,
+          "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] "
+          "[--world N] [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] "
+          "[--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N]\n");
       return 2;
     }
   }
   if (world_only) {
-    world_set(world, world_seed, room, verbose, png_dir, world_params);
+    world_set(world, world_seed, room, verbose, png_dir, world_params, downsample);
     return 0;
   }
   const std::filesystem::path real =
@@ -790,7 +820,7 @@ int main(int argc, char** argv) {
   else std::printf("speed: ../shared/data/real absent, real frame skipped\n");
   if (speed_only) return 0;
   speed(synthetic(7).frame, "generated scene seed 7", repeat, pcl_repeat, threads, pool_per_scan);
-  if (world > 0) world_set(world, world_seed, room, verbose, png_dir, world_params);
+  if (world > 0) world_set(world, world_seed, room, verbose, png_dir, world_params, downsample);
   accuracy_and_ransac(scenes, std::min(scenes, 30));
   if (real_frame) real_clusters(*real_frame);
   return 0;

@@ -56,6 +56,7 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.range("max_plane_angle_deg", p.max_plane_angle_deg, 0, 90);
   c.positive("plane_distance_m", p.plane_distance_m);
   c.non_negative("plane_noise_factor", p.plane_noise_factor);
+  c.non_negative("pixel_units_focal_px", p.pixel_units_focal_px);
   c.at_least("plane_iterations", p.plane_iterations, 1);
   // A pixel's prism mark holds 1 + a support's index, or past a seen part 1 + the count
   // + the index, in a byte.

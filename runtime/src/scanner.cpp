@@ -2474,11 +2474,34 @@ void order_and_name_objects(ScanResult& result) {
 
 namespace {
 
+// The pixel-unit parameters for a camera that sees k times the pixels along a line that
+// pixel_units_focal_px gives (ScanParams::pixel_units_focal_px).
+void scale_pixel_units(ScanParams& p, double k) {
+  const auto area = [k](int& n) { n = std::max(1, static_cast<int>(std::lround(n * k * k))); };
+  const auto line = [k](int& n) { n = std::max(1, static_cast<int>(std::lround(n * k))); };
+  for (int* n : {&p.min_plane_points, &p.min_cluster_points, &p.min_cluster_points_far,
+                 &p.max_cluster_points, &p.min_whole_points, &p.segment.min_object_points,
+                 &p.shape.min_foot_seen_pixels})
+    area(*n);
+  for (int* n : {&p.pixel_stride, &p.cluster_window_px, &p.mls_window_px}) line(*n);
+}
+
+// One Kinect's focal length differs from another's by its calibration, up to this factor
+// either way from the nominal 525 px (TUM's 517 to 535, NYU's 583, OSD's 525): the
+// pixel-unit parameters hold as given over that range (ScanParams::pixel_units_focal_px).
+constexpr double kFocalCalibrationSpread = 1.15;
+
 // The parameters with the frame's camera: the recognizer counts pixels with its focal
-// length (ShapeRecognizerParams::focal_px).
+// length (ShapeRecognizerParams::focal_px), and the pixel-unit parameters follow it from
+// the nearer end of the calibrations' range.
 ScanParams with_camera_of(const Frame& f, const ScanParams& given) {
   ScanParams p = given;
   p.shape.focal_px = focal_px(f);
+  if (!(p.pixel_units_focal_px > 0)) return p;
+  const double k = p.shape.focal_px / p.pixel_units_focal_px;
+  if (!std::isfinite(k) || !(k > 0)) return p;
+  if (k > kFocalCalibrationSpread) scale_pixel_units(p, k / kFocalCalibrationSpread);
+  if (k < 1 / kFocalCalibrationSpread) scale_pixel_units(p, k * kFocalCalibrationSpread);
   return p;
 }
 

@@ -136,6 +136,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"fitted_foot_at_border", Kind::flag, nullptr, nullptr, 0, &p.fitted_foot_at_border},
       {"sensor_min_range_m", Kind::non_negative, &p.sensor_min_range_m},
       {"near_cut_margin_m", Kind::non_negative, &p.near_cut_margin_m},
+      {"pixel_units_focal_px", Kind::non_negative, &p.pixel_units_focal_px},
       {"min_whole_points", Kind::whole, nullptr, &p.min_whole_points, 0},
       {"hull_to_camera", Kind::flag, nullptr, nullptr, 0, &p.hull_to_camera},
       {"drop_cut_clusters", Kind::flag, nullptr, nullptr, 0, &p.drop_cut_clusters},

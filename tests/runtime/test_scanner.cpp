@@ -369,6 +369,7 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->unseen_hold_no_parts, d.unseen_hold_no_parts);
   EXPECT_EQ(p->border_px, d.border_px);
   EXPECT_EQ(p->min_whole_points, d.min_whole_points);
+  EXPECT_EQ(p->pixel_units_focal_px, d.pixel_units_focal_px);
 }
 
 TEST(ScanConfig, ReadsValuesAndComments) {

@@ -508,6 +508,21 @@ struct ScanParams {
   double sensor_min_range_m = 0.4;
   double near_cut_margin_m = 0.01;
   int min_whole_points = 400;
+  // The focal length, in pixels, that the pixel-unit parameters are given for: the
+  // Kinect's at 640 x 480. A camera of focal f sees a surface over f / this times the
+  // pixels along a line and its square in area (a 320 x 240 stream: a half and a
+  // quarter; a 1280 x 720 RealSense, about 640 px: 1.2 and 1.5), so the scan takes the
+  // pixel counts (min_plane_points, min_cluster_points, min_cluster_points_far,
+  // max_cluster_points, min_whole_points, segment.min_object_points,
+  // shape.min_foot_seen_pixels) times that square and the pixel spans (pixel_stride,
+  // cluster_window_px, mls_window_px) times the ratio, at least 1. The ratio is taken
+  // from the nearer end of the Kinect calibrations' range, 1/1.15 to 1.15 of this (TUM's
+  // 517 to 535 px, NYU's 583): within it the parameters hold as given. Left as they are:
+  // what follows the sensor's pixels themselves (dropout_max_gap_px: runs of dropped
+  // pixels; border_px; segment.min_arm_px: 3 x 3 pixel means). 0: no scaling (before
+  // session 38: a 320 x 240 frame found 60 % of the rooms' objects 1.5-2.5 m away right,
+  // 93 % at 640 x 480).
+  double pixel_units_focal_px = 525;
   ShapeRecognizerParams shape;
   // Flat surfaces for virtual panels (ScanResult::surfaces). Off for scans that match no
   // plane primitive (a session whose spec has none, benchmarks): surfaces stay empty.
