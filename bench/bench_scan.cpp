@@ -10,6 +10,7 @@
 // Usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N]
 //        [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only]
 //        [--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N]
+//        [--render-scale S]
 //        (--repeat: our scans per frame, 30; --pcl-repeat: PCL's, interleaved with ours,
 //        default max(5, repeat / 3); --threads: our worker threads, 2; --speed-only: the
 //        speed section alone, e.g. under callgrind; --pool-per-scan: every scan starts its
@@ -20,7 +21,8 @@
 //        --rooms: room_scene_params, table heights 0.4-1.1 m, a rolled camera, chairs,
 //        shelves and objects on their boards, objects on the floor, touching, across a table
 //        edge, dark; --downsample N: the world set's frames as a sensor of 1/N the
-//        resolution sees them, every N-th pixel of every N-th row)
+//        resolution sees them, every N-th pixel of every N-th row; --render-scale S: rendered
+//        by a camera of S times the Kinect's resolution and focal length, 0.25 to 3)
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -429,9 +431,22 @@ SyntheticFrame subsampled(const SyntheticScene& scene, const SyntheticFrame& f, 
 // other start is a held-out set).
 // `room`: room_scene_params (table heights 0.4-1.1 m, camera roll) instead of
 // world_scene_params.
-// `downsample`: the frames seen by a sensor of 1/n the resolution (subsampled).
+// The scene seen by a camera of `scale` times the Kinect's resolution and focal length,
+// the same field of view (its layout drawn for the Kinect's image).
+SyntheticScene with_camera_scaled(SyntheticScene scene, double scale) {
+  if (scale == 1) return scene;
+  CameraIntrinsics& k = scene.camera;
+  k.width = static_cast<int>(std::lround(k.width * scale));
+  k.height = static_cast<int>(std::lround(k.height * scale));
+  k.fx *= scale, k.fy *= scale;
+  k.cx = (k.cx + 0.5) * scale - 0.5, k.cy = (k.cy + 0.5) * scale - 0.5;
+  return scene;
+}
+
+// `downsample`: the frames seen by a sensor of 1/n the resolution (subsampled);
+// `render_scale`: rendered by a camera of that many times the resolution.
 void world_set(int scenes, int first_seed, bool room, bool verbose, const std::string& png_dir,
-               const ScanParams& params, int downsample) {
+               const ScanParams& params, int downsample, double render_scale) {
   const char* bands[] = {"< 1.5 m", "1.5-2.5 m", "> 2.5 m"};
   BandTally tally[3];
   std::map<std::string, std::map<std::string, int>> confusion;
@@ -448,8 +463,9 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
   for (int k = 1; k <= scenes; ++k) {
     const int seed = first_seed + k - 1;
     const auto seed64 = static_cast<std::uint64_t>(seed);
-    const Result<SyntheticScene> scene =
+    Result<SyntheticScene> scene =
         generate_scene(room ? room_scene_params(seed64) : world_scene_params(seed64));
+    if (scene) *scene = with_camera_scaled(std::move(*scene), render_scale);
     if (!scene) {
       std::printf("  seed %d: %s\n", seed, scene.error().format().c_str());
       continue;
@@ -762,6 +778,7 @@ void real_clusters(const Frame& frame) {
 int main(int argc, char** argv) {
   int repeat = 30, scenes = 100, world = 60, world_seed = 2001, pcl_repeat = -1, threads = ScanParams{}.threads;
   int downsample = 1;
+  double render_scale = 1;
   bool pcl = true, world_only = false, speed_only = false, verbose = false, room = false;
   bool pool_per_scan = false;
   std::string png_dir;
@@ -785,6 +802,8 @@ int main(int argc, char** argv) {
     else if (a == "--png-dir" && i + 1 < argc) png_dir = argv[++i];
     else if (a == "--downsample" && i + 1 < argc)
       downsample = std::clamp(std::atoi(argv[++i]), 1, 8);
+    else if (a == "--render-scale" && i + 1 < argc)
+      render_scale = std::clamp(std::atof(argv[++i]), 0.25, 3.0);
     else if (a == "--scan-conf" && i + 1 < argc) {
       const Result<ScanParams> conf = read_scan_config_file(argv[++i]);
       if (!conf) {
@@ -798,12 +817,13 @@ int main(int argc, char** argv) {
           stderr,
           "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] "
           "[--world N] [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] "
-          "[--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N]\n");
+          "[--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N] "
+          "[--render-scale S]\n");
       return 2;
     }
   }
   if (world_only) {
-    world_set(world, world_seed, room, verbose, png_dir, world_params, downsample);
+    world_set(world, world_seed, room, verbose, png_dir, world_params, downsample, render_scale);
     return 0;
   }
   const std::filesystem::path real =
@@ -820,7 +840,8 @@ int main(int argc, char** argv) {
   else std::printf("speed: ../shared/data/real absent, real frame skipped\n");
   if (speed_only) return 0;
   speed(synthetic(7).frame, "generated scene seed 7", repeat, pcl_repeat, threads, pool_per_scan);
-  if (world > 0) world_set(world, world_seed, room, verbose, png_dir, world_params, downsample);
+  if (world > 0)
+    world_set(world, world_seed, room, verbose, png_dir, world_params, downsample, render_scale);
   accuracy_and_ransac(scenes, std::min(scenes, 30));
   if (real_frame) real_clusters(*real_frame);
   return 0;
