@@ -2,7 +2,8 @@
 // labelled tabletop scenes), the figures of docs/perception.md "Clutter".
 //   recall     labelled objects found whole: one reported object whose centre (its
 //              most interior pixel, nearest to its points' mean projected to the label
-//              image among equals) lies on the labelled object and which holds 0.5 to 1.6 times its labelled points;
+//              image among equals) lies on the labelled object and which holds 0.5 to 1.6 times its
+//              labelled points;
 //   precision  reported objects that are whole labelled objects;
 //   fragments  reported objects centred on a labelled object with < 0.5x its points;
 //   merges     reported objects holding > 25 % of the points of two or more objects;
@@ -11,11 +12,13 @@
 // Per scene the scan time (median of --repeat runs) against the number of objects.
 // Usage: annex-eval-osd OSD_DIR [--expect FILE] [--config SCAN.conf] [--repeat N]
 //                       [--png-dir DIR] [--scenes FIRST-LAST] [--verbose] [--explain]
-//                       [--method crease|none|lccp]
+//                       [--method crease|none|lccp] [--downsample N]
 // --explain prints, per reported object, its primitives and every candidate the shape
 // recognizer tried (as `annex-runtime scan --explain` does).
 // --method none scans without splitting clusters; lccp splits the unsplit clusters with
 // PCL's supervoxels + LCCP instead (segments only: no shapes, so no shape columns).
+// --downsample N scores the scenes as a sensor of 1/N the resolution sees them (every
+// N-th pixel of every N-th row, labels with them).
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -114,13 +117,14 @@ int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr,
                  "usage: annex-eval-osd OSD_DIR [--expect FILE] [--config SCAN.conf] "
-                 "[--repeat N] [--png-dir DIR] [--scenes FIRST-LAST] [--verbose]\n");
+                 "[--repeat N] [--png-dir DIR] [--scenes FIRST-LAST] [--verbose] "
+                 "[--explain] [--method crease|none|lccp] [--downsample N]\n");
     return 2;
   }
   const std::filesystem::path dir = argv[1];
   std::filesystem::path expect_path = ANNEX_BENCH_DIR "/osd_expectations.txt";
   std::optional<std::filesystem::path> config, png_dir;
-  int repeat = 5, first = 0, last = 44;
+  int repeat = 5, first = 0, last = 44, downsample = 1;
   bool verbose = false, explain = false;
   std::string method = "crease";
   for (int i = 2; i < argc; ++i) {
@@ -140,6 +144,8 @@ int main(int argc, char** argv) {
       repeat = std::max(1, std::atoi(next().c_str()));
     else if (a == "--png-dir")
       png_dir = next();
+    else if (a == "--downsample")
+      downsample = std::clamp(std::atoi(next().c_str()), 1, 8);
     else if (a == "--scenes") {
       const std::string r = next();
       if (std::sscanf(r.c_str(), "%d-%d", &first, &last) != 2) {
@@ -193,6 +199,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s\n", scene.error().format().c_str());
       return 2;
     }
+    *scene = subsampled(*scene, downsample);
     std::vector<double> times, cpu_times;
     Result<ScanResult> scan = Error{"not run", {}};
     for (int r = 0; r < repeat; ++r) {

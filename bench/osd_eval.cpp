@@ -36,6 +36,25 @@ Result<OsdScene> read_osd_scene(const std::filesystem::path& dir, const std::str
   return s;
 }
 
+OsdScene subsampled(const OsdScene& scene, int n) {
+  if (n <= 1) return scene;
+  OsdScene s;
+  s.name = scene.name;
+  s.frame = scene.frame;
+  s.frame.width = scene.frame.width / n;
+  s.frame.height = scene.frame.height / n;
+  s.frame.points.clear();
+  for (int y = 0; y < s.frame.height; ++y)
+    for (int x = 0; x < s.frame.width; ++x) {
+      const size_t i = static_cast<size_t>(y * n) * scene.frame.width + static_cast<size_t>(x * n);
+      s.frame.points.push_back(scene.frame.points[i]);
+      s.object_of_pixel.push_back(scene.object_of_pixel[i]);
+      if (scene.object_of_pixel[i] > 0) ++s.labelled_points[scene.object_of_pixel[i]];
+    }
+  // An object every one of whose pixels the sampling skips is not in the scene's truth.
+  return s;
+}
+
 std::string OsdExpectations::class_of(const std::string& scene, int object) const {
   const auto s = classes.find(scene);
   if (s == classes.end()) return "any";
