@@ -406,31 +406,18 @@ void tally_feature(BandTally& b, const PhysicalPrimitive& tp, const PhysicalObje
   for (size_t i = 0; i < a.size() && i < g.size(); ++i) b.errors.push_back(std::abs(a[i] - g[i]));
 }
 
-// The frame a sensor of 1/n the resolution sees of the same scene (every n-th pixel of
-// every n-th row, as a 320 x 240 stream or a phone's depth map sees a room the Kinect
-// sees at 640 x 480; the points keep their depth noise), its labels and its truth's
-// pixel counts with it. Its intrinsics stay the Kinect's: grid_intrinsics scales them.
+// The frame a sensor of 1/n the resolution sees of the same scene (subsampled: as a 320 x
+// 240 stream or a phone's depth map sees a room the Kinect sees at 640 x 480), its labels
+// and its truth's pixel counts with it.
 SyntheticFrame subsampled(const SyntheticScene& scene, const SyntheticFrame& f, int n) {
   if (n <= 1) return f;
   SyntheticFrame out;
-  out.frame = f.frame;
-  out.frame.width = f.frame.width / n;
-  out.frame.height = f.frame.height / n;
-  out.frame.points.clear();
-  for (int y = 0; y < out.frame.height; ++y)
-    for (int x = 0; x < out.frame.width; ++x) {
-      const size_t i = static_cast<size_t>(y * n) * f.frame.width + static_cast<size_t>(x * n);
-      out.frame.points.push_back(f.frame.points[i]);
-      out.labels.push_back(f.labels[i]);
-    }
+  out.frame = subsampled(f.frame, n);
+  out.labels = every_nth_pixel(f.labels, f.frame.width, f.frame.height, n);
   out.truth = ground_truth(scene, &out.frame, &out.labels);
   return out;
 }
 
-// `first_seed`: the first scene's seed (2001, the set the scanner was tuned on; any
-// other start is a held-out set).
-// `room`: room_scene_params (table heights 0.4-1.1 m, camera roll) instead of
-// world_scene_params.
 // The scene seen by a camera of `scale` times the Kinect's resolution and focal length,
 // the same field of view (its layout drawn for the Kinect's image).
 SyntheticScene with_camera_scaled(SyntheticScene scene, double scale) {
@@ -443,6 +430,10 @@ SyntheticScene with_camera_scaled(SyntheticScene scene, double scale) {
   return scene;
 }
 
+// `first_seed`: the first scene's seed (2001, the set the scanner was tuned on; any
+// other start is a held-out set).
+// `room`: room_scene_params (table heights 0.4-1.1 m, camera roll) instead of
+// world_scene_params.
 // `downsample`: the frames seen by a sensor of 1/n the resolution (subsampled);
 // `render_scale`: rendered by a camera of that many times the resolution.
 void world_set(int scenes, int first_seed, bool room, bool verbose, const std::string& png_dir,

@@ -40,18 +40,12 @@ OsdScene subsampled(const OsdScene& scene, int n) {
   if (n <= 1) return scene;
   OsdScene s;
   s.name = scene.name;
-  s.frame = scene.frame;
-  s.frame.width = scene.frame.width / n;
-  s.frame.height = scene.frame.height / n;
-  s.frame.points.clear();
-  for (int y = 0; y < s.frame.height; ++y)
-    for (int x = 0; x < s.frame.width; ++x) {
-      const size_t i = static_cast<size_t>(y * n) * scene.frame.width + static_cast<size_t>(x * n);
-      s.frame.points.push_back(scene.frame.points[i]);
-      s.object_of_pixel.push_back(scene.object_of_pixel[i]);
-      if (scene.object_of_pixel[i] > 0) ++s.labelled_points[scene.object_of_pixel[i]];
-    }
-  // An object every one of whose pixels the sampling skips is not in the scene's truth.
+  s.frame = subsampled(scene.frame, n);
+  s.object_of_pixel =
+      every_nth_pixel(scene.object_of_pixel, scene.frame.width, scene.frame.height, n);
+  // An object the sampling misses whole is no longer in the scene's truth.
+  for (int id : s.object_of_pixel)
+    if (id > 0) ++s.labelled_points[id];
   return s;
 }
 

@@ -27,9 +27,8 @@ struct OsdScene {
 
 Result<OsdScene> read_osd_scene(const std::filesystem::path& dir, const std::string& name);
 
-// The scene as a sensor of 1/n the resolution sees it: every n-th pixel of every n-th
-// row, their labels and the labelled pixels counted anew (the frame's intrinsics stay:
-// grid_intrinsics scales them).
+// The scene as a sensor of 1/n the resolution sees it (annex::subsampled), its labels
+// with it and the labelled pixels counted anew.
 OsdScene subsampled(const OsdScene& scene, int n);
 
 // Expected shape class per scene and object id: "box", "cylinder" (cans, jars, mugs),

@@ -17,22 +17,13 @@ namespace {
 
 const std::filesystem::path kRealDir = std::filesystem::path(ANNEX_SHARED_DIR) / "data" / "real";
 
-// Every n-th pixel of every n-th row, with their labels: what a sensor of 1/n the
-// resolution sees (its intrinsics are the frame's, which grid_intrinsics scales).
+// What a sensor of 1/n the resolution sees, with the labels (subsampled); which objects
+// the border cuts is the same at any resolution.
 SyntheticFrame subsampled(const SyntheticFrame& f, int n) {
   SyntheticFrame out;
-  out.truth = f.truth;  // which objects the border cuts: the same at any resolution
-  out.frame = f.frame;
-  out.frame.width = f.frame.width / n;
-  out.frame.height = f.frame.height / n;
-  out.frame.points.clear();
-  for (int y = 0; y < out.frame.height; ++y)
-    for (int x = 0; x < out.frame.width; ++x) {
-      const auto i = static_cast<std::size_t>(y * n) * static_cast<std::size_t>(f.frame.width) +
-                     static_cast<std::size_t>(x * n);
-      out.frame.points.push_back(f.frame.points[i]);
-      if (!f.labels.empty()) out.labels.push_back(f.labels[i]);
-    }
+  out.truth = f.truth;
+  out.frame = subsampled(f.frame, n);
+  out.labels = every_nth_pixel(f.labels, f.frame.width, f.frame.height, n);
   return out;
 }
 
@@ -58,6 +49,25 @@ int whole_and_right(std::uint64_t first, int count, int downsample, const ScanPa
   return right;
 }
 
+TEST(CameraResolution, ASubsampledFrameKeepsEveryOtherPixelWithItsGridsIntrinsics) {
+  Frame f;
+  f.width = 6;
+  f.height = 4;
+  for (int i = 0; i < 24; ++i) f.points.push_back({float(i), 0, 1});
+  f.intrinsics = {6, 4, 5.25, 5.25, 2.5, 1.5};
+  const Frame half = subsampled(f, 2);
+  ASSERT_EQ(half.width, 3);
+  ASSERT_EQ(half.height, 2);
+  ASSERT_EQ(half.points.size(), 6u);
+  const float kept[] = {0, 2, 4, 12, 14, 16};  // rows 0 and 2, columns 0, 2 and 4
+  for (size_t i = 0; i < 6; ++i) EXPECT_EQ(half.points[i].x, kept[i]) << i;
+  EXPECT_EQ(half.intrinsics.width, 3);
+  EXPECT_DOUBLE_EQ(half.intrinsics.fx, 2.625);
+  EXPECT_DOUBLE_EQ(half.intrinsics.cx, 1.25);  // pixel 2k of the frame is pixel k
+  EXPECT_DOUBLE_EQ(focal_px(half), 2.625);
+  EXPECT_EQ(subsampled(f, 1).points.size(), 24u);
+}
+
 TEST(CameraResolution, AHalfResolutionCameraFindsTheObjectsTheKinectFinds) {
   // Held-out scenes seen at 320 x 240 (a Kinect's low-resolution stream, a phone's depth
   // map): with the pixel units given for 640 x 480, most objects 1.5 m and farther fell
@@ -79,9 +89,7 @@ TEST(CameraResolution, TheRealMilkFrameAtHalfResolutionKeepsItsProps) {
   // pixel units as given the bottle was `unknown`.
   const Result<Frame> full = read_pcd(kRealDir / "milk_cartoon_all_small_clorox.pcd");
   if (!full) GTEST_SKIP() << "../shared/data/real is absent: real-frame test skipped";
-  SyntheticFrame wrapped;
-  wrapped.frame = *full;
-  const Frame half = subsampled(wrapped, 2).frame;
+  const Frame half = subsampled(*full, 2);
   const Result<ScanResult> scan = scan_frame(half);
   ASSERT_TRUE(scan.ok()) << scan.error().format();
   struct Prop {

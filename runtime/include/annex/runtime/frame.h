@@ -62,4 +62,34 @@ inline double focal_px(const Frame& f) {
   return grid_intrinsics(f).fx;
 }
 
+// Every n-th pixel of every n-th row of a width x height image's per-pixel values (its
+// points, its labels), from the first.
+template <typename T>
+std::vector<T> every_nth_pixel(const std::vector<T>& pixels, int width, int height, int n) {
+  std::vector<T> out;
+  if (n < 1 || width < 1 || height < 1) return out;
+  out.reserve(static_cast<size_t>(width / n) * static_cast<size_t>(height / n));
+  for (int y = 0; y < height / n; ++y)
+    for (int x = 0; x < width / n; ++x)
+      out.push_back(pixels[static_cast<size_t>(y * n) * static_cast<size_t>(width) +
+                           static_cast<size_t>(x * n)]);
+  return out;
+}
+
+// What a sensor of 1/n the resolution sees of an organized frame (a 320 x 240 stream of
+// a 640 x 480 one, at n = 2): every n-th pixel of every n-th row, with the intrinsics of
+// that grid. The points keep their depth noise (a binned sensor would average it).
+inline Frame subsampled(const Frame& f, int n) {
+  if (n <= 1 || !f.organized()) return f;
+  Frame out = f;
+  out.points = every_nth_pixel(f.points, f.width, f.height, n);
+  out.width = f.width / n;
+  out.height = f.height / n;
+  CameraIntrinsics& k = out.intrinsics = grid_intrinsics(f);
+  k.width = out.width;
+  k.height = out.height;
+  k.fx /= n, k.fy /= n, k.cx /= n, k.cy /= n;
+  return out;
+}
+
 }  // namespace annex
