@@ -291,16 +291,22 @@ bool two_feet(const Frame& f, const ScanCluster& c, const MeansCut& means, doubl
               const TouchingSplitParams& params) {
   if (means.q.size() != c.pixels.size()) return false;
   std::vector<double> h(c.pixels.size());
-  double top = 0;
+  double top = 0, bottom = 1e9;
   for (size_t k = 0; k < c.pixels.size(); ++k) {
     const PointXYZRGB& p = f.points[static_cast<size_t>(c.pixels[k])];
     h[k] = dot(c.support.normal, Vec3{p.x, p.y, p.z}) + c.support.d;
     top = std::max(top, h[k]);
+    bottom = std::min(bottom, h[k]);
   }
   MeansCut foot;
   foot.m0 = means.m0, foot.m1 = means.m1;
   for (size_t k = 0; k < h.size(); ++k)
     if (h[k] <= params.foot_share * top) foot.q.push_back(means.q[k]);
+  // No foot seen, though the cluster reaches into its lower half: bodies seen from above
+  // that hide their feet under their rims or bulges (a bowl, a ring lying flat). Nothing
+  // tells one body from two, and the cut is tried. What is seen only higher up (a
+  // shelf's board over the floor) does not stand there.
+  if (foot.q.empty()) return bottom < 0.5 * top;
   return footprint_waist(foot, params.waist_share) &&
          front_notched(foot, params.notch_sigmas * kinect_sigma_z(depth_m), params.gap_evidence);
 }

@@ -30,7 +30,8 @@ struct TouchingSplitParams {
   // (ScanParams::touching_max_coverage); 0: none.
   double max_whole_coverage = 0.85;
   // A cluster explained over at least this share (and under max_whole_coverage) is tried
-  // only when it stands on two feet (ScanParams::touching_two_feet_coverage).
+  // only when it stands on two feet, or shows no foot at all
+  // (ScanParams::touching_two_feet_coverage).
   double two_feet_coverage = 0.8;
   // Its foot: its pixels in this lowest share of its height above its support.
   double foot_share = 0.25;
@@ -90,7 +91,10 @@ std::optional<TouchingCut> touching_cut(
 // side by side stand on two feet, each with its own front; one body's foot is one
 // outline, and a handle rising from its side is none of it. A foot seen only as a ring's
 // front arc narrows between the means too (the milk frame's detergent bottle) but shows
-// one front.
+// one front. The front may also be seen in two pieces (TouchingSplitParams::gap_evidence).
+// A cluster no point of whose foot is seen, though it reaches into the lower half of its
+// height (bodies seen from above that hide their feet), counts as standing on two feet:
+// nothing tells one body from two.
 bool stands_on_two_feet(const Frame& frame, const ScanCluster& cluster,
                         const TouchingSplitParams& params = {});
 

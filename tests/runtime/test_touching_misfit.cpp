@@ -173,14 +173,16 @@ TEST(TouchingGate, ABottleWithAHandleStandsOnOneFoot) {
   EXPECT_TRUE(stands_on_two_feet(*frame, *bottle, fine));
 }
 
-TEST(TouchingGate, ARingAgainstAFlatBowlUnderOneBoxIsTwoObjectsWithTheWiderGate) {
+TEST(TouchingGate, ARingAgainstAFlatBowlShowingNoFootIsTried) {
   // Fresh rooms 9507 (session 35): a ring lying flat against a flat bowl 1.1 m away, no
   // crease between them; one box over both explains 84 %, which the gate of 0.8 never
-  // tries to cut. It does not stand on two feet (the default asks that of a cluster
-  // explained that well): only a gate asking no cluster for two feet parts them.
+  // tries to cut. Seen from above, neither shows a point in the lowest quarter of the
+  // cluster's height (the bowl narrows under its rim, the ring bulges over its foot):
+  // with no foot seen nothing tells one body from two, and since session 38 the cluster
+  // is tried and parted, as a gate asking no cluster for two feet parts it.
   const auto ring = [](const SyntheticObject& o) { return o.kind == ShapeKind::torus; };
   EXPECT_TRUE(pair_found_apart(9507u, wider_gate(), ring));
-  EXPECT_FALSE(pair_found_apart(9507u, ScanParams{}, ring));
+  EXPECT_TRUE(pair_found_apart(9507u, ScanParams{}, ring));
   EXPECT_FALSE(pair_found_apart(9507u, old_gate(), ring));
 }
 

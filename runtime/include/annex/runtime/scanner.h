@@ -451,7 +451,9 @@ struct ScanParams {
   // A cluster explained over at least this share, under the gate, is tried only when it
   // stands on two feet: its foot (its lowest quarter) narrows between the cut's two means
   // and its front, seen from the camera, recedes between them (touching_split.h,
-  // stands_on_two_feet). Two bodies side by side each show their own front; a bottle's
+  // stands_on_two_feet), or no point of its foot is seen though it reaches into the lower
+  // half of its height (bodies seen from above that hide their feet: nothing tells one
+  // body from two). Two bodies side by side each show their own front; a bottle's
   // handle rises from its side, and its foot seen as a ring's front arc is one front.
   // 1: every cluster under the gate is tried (0.8 and 1 were the defaults before
   // session 37).
