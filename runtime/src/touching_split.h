@@ -30,8 +30,9 @@ struct TouchingSplitParams {
   // (ScanParams::touching_max_coverage); 0: none.
   double max_whole_coverage = 0.85;
   // A cluster explained over at least this share (and under max_whole_coverage) is tried
-  // only when it stands on two feet, or shows no foot at all
-  // (ScanParams::touching_two_feet_coverage).
+  // only when it stands on two feet (stands_on_two_feet: a foot seen in two, or none
+  // seen though the cluster reaches into its lower half;
+  // ScanParams::touching_two_feet_coverage).
   double two_feet_coverage = 0.8;
   // Its foot: its pixels in this lowest share of its height above its support.
   double foot_share = 0.25;
