@@ -422,11 +422,9 @@ SyntheticFrame subsampled(const SyntheticScene& scene, const SyntheticFrame& f, 
 // the same field of view (its layout drawn for the Kinect's image).
 SyntheticScene with_camera_scaled(SyntheticScene scene, double scale) {
   if (scale == 1) return scene;
-  CameraIntrinsics& k = scene.camera;
-  k.width = static_cast<int>(std::lround(k.width * scale));
-  k.height = static_cast<int>(std::lround(k.height * scale));
-  k.fx *= scale, k.fy *= scale;
-  k.cx = (k.cx + 0.5) * scale - 0.5, k.cy = (k.cy + 0.5) * scale - 0.5;
+  const CameraIntrinsics& k = scene.camera;
+  scene.camera = resized_intrinsics(k, static_cast<int>(std::lround(k.width * scale)),
+                                    static_cast<int>(std::lround(k.height * scale)));
   return scene;
 }
 

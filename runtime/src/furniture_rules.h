@@ -186,8 +186,8 @@ std::optional<Vec3> upright_panel(const Frame& f, const std::vector<int>& grid, 
 // slope against the plane) and at least 3 mm, and ends at the support's own surface
 // (`surface_of`) nearer to the camera, or with params.below_support_ends_at_objects at
 // what stands on it there (higher than params.min_height_m). A chair's back behind the
-// table, or what stands on
-// the floor behind it, runs on below the table's height until the table's edge hides it:
+// table, or what stands on the floor behind it, runs on below the table's height until
+// the table's edge hides it:
 // no one sees its foot (the scanner flags it partial). What stands on the support ends at
 // its surface; a box stacked flush on another runs on down the lower one's front to the
 // floor, no surface of its support. False with params.below_support_sigmas 0.

@@ -244,15 +244,16 @@ bool footprint_waist(const MeansCut& cut, double waist_share) {
   return narrowest < waist_share * ends;
 }
 
-// Whether the footprint's range from the camera (q is the camera frame's points on the
-// support's axes, so the camera is at 0, 0) recedes between the two means by more than
+// Whether the footprint shows two fronts: its range from the camera (q is the camera
+// frame's points on the support's axes, so the camera is at 0, 0) recedes between the two
+// means by more than
 // `depth` from its nearest on both sides (stands_on_two_feet), or the footprint is seen
 // in two pieces: a run of empty bins between the means that its sampling does not
 // explain. Bins as footprint_waist's. A far foot leaves single bins empty at random: a
 // bin holding on average `lambda` points (those seen over the bins that hold any) is
 // empty with probability exp(-lambda), so a run of r empty bins counts when
 // lambda r >= gap_evidence (exp(-gap_evidence): the chance it is sampling's).
-bool front_notched(const MeansCut& cut, double depth, double gap_evidence) {
+bool fronts_apart(const MeansCut& cut, double depth, double gap_evidence) {
   constexpr int kBins = 16;
   const std::array<double, 2> u{cut.m1[0] - cut.m0[0], cut.m1[1] - cut.m0[1]};
   const double len2 = u[0] * u[0] + u[1] * u[1];
@@ -308,7 +309,7 @@ bool two_feet(const Frame& f, const ScanCluster& c, const MeansCut& means, doubl
   // shelf's board over the floor) does not stand there.
   if (foot.q.empty()) return bottom < 0.5 * top;
   return footprint_waist(foot, params.waist_share) &&
-         front_notched(foot, params.notch_sigmas * kinect_sigma_z(depth_m), params.gap_evidence);
+         fronts_apart(foot, params.notch_sigmas * kinect_sigma_z(depth_m), params.gap_evidence);
 }
 
 // The criterion (touching_split.h) of a cut into parts a and b against the whole.

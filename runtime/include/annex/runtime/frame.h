@@ -41,19 +41,25 @@ inline bool has_depth(const PointXYZRGB& p) {
   return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && p.z > 0;
 }
 
-// The frame's intrinsics at its own resolution: as carried when they match the grid,
-// else scaled to it (a frame resized without its intrinsics; pixel centres kept).
-inline CameraIntrinsics grid_intrinsics(const Frame& f) {
-  CameraIntrinsics k = f.intrinsics;
-  if (f.width <= 0 || f.height <= 1 || (k.width == f.width && k.height == f.height)) return k;
-  const double sx = double(f.width) / k.width, sy = double(f.height) / k.height;
+// The camera's intrinsics for the same field of view at width x height pixels (the image
+// resized; pixel centres kept).
+inline CameraIntrinsics resized_intrinsics(CameraIntrinsics k, int width, int height) {
+  const double sx = double(width) / k.width, sy = double(height) / k.height;
   k.fx *= sx;
   k.fy *= sy;
   k.cx = (k.cx + 0.5) * sx - 0.5;
   k.cy = (k.cy + 0.5) * sy - 0.5;
-  k.width = f.width;
-  k.height = f.height;
+  k.width = width;
+  k.height = height;
   return k;
+}
+
+// The frame's intrinsics at its own resolution: as carried when they match the grid,
+// else resized to it (a frame resized without its intrinsics).
+inline CameraIntrinsics grid_intrinsics(const Frame& f) {
+  const CameraIntrinsics& k = f.intrinsics;
+  if (f.width <= 0 || f.height <= 1 || (k.width == f.width && k.height == f.height)) return k;
+  return resized_intrinsics(k, f.width, f.height);
 }
 
 // Pixels per metre at unit depth across the frame's grid: a pixel's footprint at depth z
