@@ -10,7 +10,7 @@
 // Usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N]
 //        [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only]
 //        [--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N]
-//        [--render-scale S]
+//        [--render-scale S] [--sensor NAME]
 //        (--repeat: our scans per frame, 30; --pcl-repeat: PCL's, interleaved with ours,
 //        default max(5, repeat / 3); --threads: our worker threads, 2; --speed-only: the
 //        speed section alone, e.g. under callgrind; --pool-per-scan: every scan starts its
@@ -22,7 +22,9 @@
 //        shelves and objects on their boards, objects on the floor, touching, across a table
 //        edge, dark; --downsample N: the world set's frames as a sensor of 1/N the
 //        resolution sees them, every N-th pixel of every N-th row; --render-scale S: rendered
-//        by a camera of S times the Kinect's resolution and focal length, 0.25 to 3)
+//        by a camera of S times the Kinect's resolution and focal length, 0.25 to 3;
+//        --sensor NAME: rendered with another camera's depth noise, kinect, stereo or tof
+//        (depth_noise.h); the scan's own model is the config's depth_noise)
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -40,6 +42,7 @@
 #include "annex/formats/scene_format.h"
 #include "annex/reference/object_shape_recognizer_cgal.h"
 #include "annex/reference/scanner_pcl_reference.h"
+#include "annex/runtime/depth_noise.h"
 #include "annex/runtime/object_shape_recognizer.h"
 #include "annex/runtime/pcd_io.h"
 #include "annex/runtime/scan_overlay.h"
@@ -432,10 +435,15 @@ SyntheticScene with_camera_scaled(SyntheticScene scene, double scale) {
 // other start is a held-out set).
 // `room`: room_scene_params (table heights 0.4-1.1 m, camera roll) instead of
 // world_scene_params.
-// `downsample`: the frames seen by a sensor of 1/n the resolution (subsampled);
-// `render_scale`: rendered by a camera of that many times the resolution.
+// The camera the world set is seen by.
+struct WorldCamera {
+  int downsample = 1;       // a sensor of 1/n the resolution (every n-th pixel and row)
+  double render_scale = 1;  // rendered by a camera of that many times the resolution
+  SensorNoiseParams noise;  // the Kinect's by default; --sensor NAME another's depth noise
+};
+
 void world_set(int scenes, int first_seed, bool room, bool verbose, const std::string& png_dir,
-               const ScanParams& params, int downsample, double render_scale) {
+               const ScanParams& params, const WorldCamera& camera) {
   const char* bands[] = {"< 1.5 m", "1.5-2.5 m", "> 2.5 m"};
   BandTally tally[3];
   std::map<std::string, std::map<std::string, int>> confusion;
@@ -454,12 +462,13 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
     const auto seed64 = static_cast<std::uint64_t>(seed);
     Result<SyntheticScene> scene =
         generate_scene(room ? room_scene_params(seed64) : world_scene_params(seed64));
-    if (scene) *scene = with_camera_scaled(std::move(*scene), render_scale);
+    if (scene) *scene = with_camera_scaled(std::move(*scene), camera.render_scale);
     if (!scene) {
       std::printf("  seed %d: %s\n", seed, scene.error().format().c_str());
       continue;
     }
-    const SyntheticFrame f = subsampled(*scene, render_scene(*scene), downsample);
+    const SyntheticFrame f =
+        subsampled(*scene, render_scene(*scene, camera.noise), camera.downsample);
     for (int label : {kLabelBackChair, kLabelCabinet, kLabelPole})
       extra_scenes[label] += std::find(f.labels.begin(), f.labels.end(), label) != f.labels.end();
     const auto t0 = Clock::now();
@@ -766,8 +775,7 @@ void real_clusters(const Frame& frame) {
 
 int main(int argc, char** argv) {
   int repeat = 30, scenes = 100, world = 60, world_seed = 2001, pcl_repeat = -1, threads = ScanParams{}.threads;
-  int downsample = 1;
-  double render_scale = 1;
+  WorldCamera camera;
   bool pcl = true, world_only = false, speed_only = false, verbose = false, room = false;
   bool pool_per_scan = false;
   std::string png_dir;
@@ -790,10 +798,18 @@ int main(int argc, char** argv) {
     else if (a == "--verbose") verbose = true;
     else if (a == "--png-dir" && i + 1 < argc) png_dir = argv[++i];
     else if (a == "--downsample" && i + 1 < argc)
-      downsample = std::clamp(std::atoi(argv[++i]), 1, 8);
+      camera.downsample = std::clamp(std::atoi(argv[++i]), 1, 8);
     else if (a == "--render-scale" && i + 1 < argc)
-      render_scale = std::clamp(std::atof(argv[++i]), 0.25, 3.0);
-    else if (a == "--scan-conf" && i + 1 < argc) {
+      camera.render_scale = std::clamp(std::atof(argv[++i]), 0.25, 3.0);
+    else if (a == "--sensor" && i + 1 < argc) {
+      const std::optional<DepthNoise> noise = depth_noise_named(argv[++i]);
+      if (!noise) {
+        std::fprintf(stderr, "annex-bench-scan: --sensor expects one of %s\n",
+                     std::string(kDepthNoiseNames).c_str());
+        return 2;
+      }
+      camera.noise.axial = *noise;
+    } else if (a == "--scan-conf" && i + 1 < argc) {
       const Result<ScanParams> conf = read_scan_config_file(argv[++i]);
       if (!conf) {
         std::fprintf(stderr, "annex-bench-scan: %s\n", conf.error().format().c_str());
@@ -807,12 +823,12 @@ int main(int argc, char** argv) {
           "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] "
           "[--world N] [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] "
           "[--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N] "
-          "[--render-scale S]\n");
+          "[--render-scale S] [--sensor NAME]\n");
       return 2;
     }
   }
   if (world_only) {
-    world_set(world, world_seed, room, verbose, png_dir, world_params, downsample, render_scale);
+    world_set(world, world_seed, room, verbose, png_dir, world_params, camera);
     return 0;
   }
   const std::filesystem::path real =
@@ -829,8 +845,7 @@ int main(int argc, char** argv) {
   else std::printf("speed: ../shared/data/real absent, real frame skipped\n");
   if (speed_only) return 0;
   speed(synthetic(7).frame, "generated scene seed 7", repeat, pcl_repeat, threads, pool_per_scan);
-  if (world > 0)
-    world_set(world, world_seed, room, verbose, png_dir, world_params, downsample, render_scale);
+  if (world > 0) world_set(world, world_seed, room, verbose, png_dir, world_params, camera);
   accuracy_and_ransac(scenes, std::min(scenes, 30));
   if (real_frame) real_clusters(*real_frame);
   return 0;

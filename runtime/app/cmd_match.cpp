@@ -12,6 +12,7 @@
 #include "annex/runtime/scanner.h"
 #include "commands.h"
 #include "depth_options.h"
+#include "scan_options.h"
 
 namespace annex::cli {
 namespace {
@@ -28,17 +29,11 @@ std::optional<double> parse_non_negative(std::string_view option, const std::str
 }
 
 // A .scene file as it is, or a depth frame scanned first (exit code with the error).
-Result<PhysicalScene> load_scene(const std::string& path, const std::optional<std::string>& config,
+Result<PhysicalScene> load_scene(const std::string& path, const ScanParams& params,
                                  const ParsedArgs& args, const FrameSourceParams& depth_params,
                                  std::vector<Diagnostic>& warnings, int& failure_code) {
   failure_code = kExitBadInput;
   if (!path.ends_with(".pcd") && !is_png_path(path)) return read_scene_file(path, &warnings);
-  ScanParams params;
-  if (config) {
-    Result<ScanParams> cfg = read_scan_config_file(*config);
-    if (!cfg) return cfg.error();
-    params = *cfg;
-  }
   const Result<Frame> frame = read_frame_file(path, args, depth_params);
   if (!frame) return frame.error();
   Result<ScanResult> scan = scan_frame(*frame, params);
@@ -52,13 +47,15 @@ Result<PhysicalScene> load_scene(const std::string& path, const std::optional<st
 }
 
 int run_match(const std::vector<std::string>& args) {
-  const auto parsed = parse_args("match", args,
-                                 {{"explain", "within-limits"},
-                                  {"min-vote", "max-vote", "config", "color", "intrinsics",
-                                   "depth-scale"}});
+  const auto parsed = parse_args(
+      "match", args,
+      {{"explain", "within-limits"},
+       {"min-vote", "max-vote", "config", "color", "intrinsics", "depth-scale", "depth-noise"}});
   if (!parsed) return kExitBadInput;
   FrameSourceParams depth_params;
   if (!read_depth_options("match", *parsed, depth_params)) return kExitBadInput;
+  const std::optional<ScanParams> scan_params = read_scan_options("match", *parsed);
+  if (!scan_params) return kExitBadInput;
   if (parsed->positional.size() != 2) {
     std::cerr << "annex-runtime match: error: expected SPEC.haptic and SCENE.scene or CLOUD.pcd"
                  " (see --help)\n";
@@ -80,9 +77,8 @@ int run_match(const std::vector<std::string>& args) {
   std::vector<Diagnostic> warnings;
   const Result<HapticSpec> spec = read_haptic_file(parsed->positional[0], &warnings);
   int scene_failure = kExitBadInput;
-  const Result<PhysicalScene> scene =
-      load_scene(parsed->positional[1], parsed->get("config"), *parsed, depth_params, warnings,
-                 scene_failure);
+  const Result<PhysicalScene> scene = load_scene(parsed->positional[1], *scan_params, *parsed,
+                                                 depth_params, warnings, scene_failure);
   for (const Diagnostic& w : warnings) std::cerr << w.format() << "\n";
   if (!spec) std::cerr << spec.error().format() << "\n";
   if (!scene) std::cerr << scene.error().format() << "\n";
@@ -101,7 +97,7 @@ const Command kMatchCommand{
     "match", "vote and match a spec against a scene (the match simulator)",
     "usage: annex-runtime match SPEC.haptic (SCENE.scene | CLOUD.pcd | DEPTH.png)\n"
     "                           [--explain] [--min-vote X] [--within-limits] [--max-vote C]\n"
-    "                           [--config SCAN.conf] [--color RGB.png]\n"
+    "                           [--config SCAN.conf] [--depth-noise NAME] [--color RGB.png]\n"
     "                           [--intrinsics fx,fy,cx,cy] [--depth-scale S]\n"
     "\n"
     "With a depth frame (.pcd, or a 16-bit depth .png with the options of 'scan') the\n"
@@ -118,8 +114,8 @@ const Command kMatchCommand{
     "                 per-object 'min_vote V' also never matches a pair voting under V\n"
     "  --within-limits never match a prop that needs a dimension scaled beyond the\n"
     "                 primitive's scaling limits\n"
-    "  --max-vote C   the constant C, the highest possible vote (default 100)\n"
-    "  --config FILE  scan parameters for a .pcd (default: Kinect, samples/config/scan.conf)\n"
+    "  --max-vote C   the constant C, the highest possible vote (default "
+    "100)\n" ANNEX_SCAN_OPTIONS_HELP
     "\n"
     "Exit 0 on success, 1 when a frame has no support plane, 2 on bad arguments or an\n"
     "invalid file (file:line:col: error: ...).\n",

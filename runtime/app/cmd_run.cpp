@@ -24,6 +24,7 @@
 #include "depth_options.h"
 #include "hmd_option.h"
 #include "label_points.h"
+#include "scan_options.h"
 
 namespace annex::cli {
 namespace {
@@ -173,8 +174,8 @@ int run_run(const std::vector<std::string>& args) {
       kName, args,
       {{"window", "stereo", "no-overlays", "no-labels", "points", "realtime", "within-limits"},
        {"source", "out", "frames", "scan-every", "release-after", "threads", "config", "hmd",
-         "occlusion", "depth-scale", "intrinsics", "stream", "listen", "exclude",
-         "inject-faults", "source-retries", "min-vote"}});
+        "occlusion", "depth-scale", "intrinsics", "stream", "listen", "exclude", "inject-faults",
+        "source-retries", "min-vote", "depth-noise"}});
   if (!parsed) return kExitBadInput;
   if (parsed->positional.size() != 1)
     return fail("expected one SPEC.haptic (see --help)", kExitBadInput);
@@ -223,14 +224,9 @@ int run_run(const std::vector<std::string>& args) {
   params.scan_every = static_cast<int>(scan_every);
   params.release_after_frames = static_cast<int>(release);
   params.threads = static_cast<int>(threads);
-  if (auto path = parsed->get("config")) {
-    Result<ScanParams> cfg = read_scan_config_file(*path);
-    if (!cfg) {
-      std::cerr << cfg.error().format() << "\n";
-      return kExitBadInput;
-    }
-    params.scan = *cfg;
-  }
+  const std::optional<ScanParams> scan_params = read_scan_options(kName, *parsed);
+  if (!scan_params) return kExitBadInput;
+  params.scan = *scan_params;
 
   std::vector<Diagnostic> warnings;
   const std::filesystem::path spec_path = parsed->positional[0];
@@ -558,6 +554,7 @@ extern const Command kRunCommand = {
     "usage: annex-runtime run SPEC.haptic --source SRC [--out DIR] [--window]\n"
     "                         [--stereo [--hmd HMD.conf]] [--frames N] [--scan-every K]\n"
     "                         [--release-after N] [--threads N] [--config SCAN.conf]\n"
+    "                         [--depth-noise NAME]\n"
     "                         [--no-overlays] [--no-labels] [--points] [--occlusion M]\n"
     "                         [--realtime]\n"
     "                         [--depth-scale S] [--intrinsics fx,fy,cx,cy]\n"
@@ -568,7 +565,8 @@ extern const Command kRunCommand = {
     "\n"
     "SRC is a .pcd file, a directory of .pcd frames (name order), a TUM RGB-D sequence\n"
     "(a directory with depth.txt and rgb.txt), a directory of 16-bit depth PNGs or one,\n"
-    "an .oni recording, 'openni2' (the first device) or 'openni2:URI'. Scans frames until props are found,\n"
+    "an .oni recording, 'openni2' (the first device) or 'openni2:URI'. Scans frames until props "
+    "are found,\n"
     "votes and matches (as 'match' does), then tracks each matched prop (ICP in a cube\n"
     "around its last pose; re-initialised after 5 failed frames) and keeps scanning\n"
     "every K frames: virtual objects without a prop vote again, new props are picked\n"
@@ -597,6 +595,9 @@ extern const Command kRunCommand = {
     "  --release-after N lost frames before a prop is released (default 45)\n"
     "  --threads N       trackers running at once (default 2)\n"
     "  --config FILE     scan parameters (samples/config/scan.conf)\n"
+    "  --depth-noise NAME the depth camera's noise: kinect (the default), stereo\n"
+    "                    (RealSense D400) or tof (Kinect v2, Azure Kinect); the scan,\n"
+    "                    the trackers and the camera's motion count in it\n"
     "  --no-overlays     with --out, write only poses.txt and matches.txt\n"
     "  --no-labels       overlay PNGs without the labels (the window has none)\n"
     "  --points          draw the frame as points rather than as the colour image\n"

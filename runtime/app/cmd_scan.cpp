@@ -15,6 +15,7 @@
 #include "annex/runtime/scanner.h"
 #include "commands.h"
 #include "depth_options.h"
+#include "scan_options.h"
 
 namespace annex::cli {
 namespace {
@@ -56,9 +57,10 @@ double median(std::vector<double> v) {
 }
 
 int run_scan(const std::vector<std::string>& args) {
-  const auto parsed =
-      parse_args("scan", args, {{"explain"}, {"scene", "png", "config", "repeat", "color",
-                                              "intrinsics", "depth-scale", "supports"}});
+  const auto parsed = parse_args("scan", args,
+                                 {{"explain"},
+                                  {"scene", "png", "config", "repeat", "color", "intrinsics",
+                                   "depth-scale", "supports", "depth-noise"}});
   if (!parsed) return kExitBadInput;
   if (parsed->positional.size() != 1) {
     std::cerr << "annex-runtime scan: error: expected one CLOUD.pcd or DEPTH.png (see --help)\n";
@@ -70,15 +72,9 @@ int run_scan(const std::vector<std::string>& args) {
     if (!n) return kExitBadInput;
     repeat = *n;
   }
-  ScanParams params;
-  if (auto path = parsed->get("config")) {
-    Result<ScanParams> cfg = read_scan_config_file(*path);
-    if (!cfg) {
-      std::cerr << cfg.error().format() << "\n";
-      return kExitBadInput;
-    }
-    params = *cfg;
-  }
+  std::optional<ScanParams> options = read_scan_options("scan", *parsed);
+  if (!options) return kExitBadInput;
+  ScanParams params = *options;
   if (auto v = parsed->get("supports")) {
     Result<ScanParams> chosen = with_support_selection(params, *v);
     if (!chosen) {
@@ -188,7 +184,8 @@ extern const Command kScanCommand = {
     "usage: annex-runtime scan (CLOUD.pcd | DEPTH.png [--color RGB.png]\n"
     "                          [--intrinsics fx,fy,cx,cy] [--depth-scale S])\n"
     "                          [--scene OUT.scene] [--png OUT.png] [--config FILE]\n"
-    "                          [--supports WHICH] [--explain] [--repeat N]\n"
+    "                          [--depth-noise NAME] [--supports WHICH] [--explain]\n"
+    "                          [--repeat N]\n"
     "\n"
     "Finds every near-horizontal support (floor, table, shelf, seat), the objects\n"
     "standing on each and each object's primitives (sphere, cylinder, cone or frustum,\n"
@@ -212,8 +209,8 @@ extern const Command kScanCommand = {
     "  --depth-scale S    stored value per metre (default 1000; TUM RGB-D 5000)\n"
     "  --scene OUT.scene  write the objects, then the surfaces, as a scene file\n"
     "                     (docs/scene-format.md)\n"
-    "  --png OUT.png      write the camera view with objects coloured and outlined\n"
-    "  --config FILE      scan parameters (samples/config/scan.conf, docs/perception.md)\n"
+    "  --png OUT.png      write the camera view with objects coloured and "
+    "outlined\n" ANNEX_SCAN_OPTIONS_HELP
     "  --supports WHICH   whose objects: all (within support_reach_m, the default),\n"
     "                     nearest, highest, largest, or a support id such as s2\n"
     "  --explain          after each object, every shape tried: 'candidate <id> <shape>\n"

@@ -210,6 +210,9 @@ AnnexSession::AnnexSession(HapticSpec spec, SessionParams params)
   // Surfaces are looked for only when some virtual object can be laid on one.
   spec_has_plane_ = has_plane(spec_);
   if (!spec_has_plane_) params_.scan.plane_candidates = false;
+  // One camera: the trackers and the camera's motion count in the scan's depth noise.
+  params_.tracker.volume.depth_noise = params_.camera_motion_params.depth_noise =
+      params_.scan.depth_noise;
   workers_ = std::make_unique<Workers>(params_);
 }
 

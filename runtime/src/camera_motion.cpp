@@ -129,6 +129,7 @@ struct PairingGate {
   double inlier_m = 0.01;
   double normal_cos = 0.5;
   int normal_step_px = 2;
+  DepthNoise noise;
 };
 
 PixelPairs pair_by_pixel(const TrackingModel& model, const Frame& frame, const CameraIntrinsics& k,
@@ -152,7 +153,7 @@ PixelPairs pair_by_pixel(const TrackingModel& model, const Frame& frame, const C
     const Eigen::Vector3d q{seen.x, seen.y, seen.z};
     const double r = n.dot(p - q);
     // Both frames carry the depth noise at about this depth.
-    const double sigma = std::numbers::sqrt2 * kinect_sigma_z(seen.z);
+    const double sigma = std::numbers::sqrt2 * gate.noise.sigma_z(seen.z);
     if (std::abs(r) > std::max(gate.distance_m, gate.sigmas * sigma)) continue;
     ++out.pairs;
     if (std::abs(r) <= gate.inlier_m) {
@@ -212,7 +213,8 @@ CameraMotionResult estimate_camera_motion(const TrackingModel& previous_static, 
                            .sigmas = params.still.inlier_sigmas,
                            .inlier_m = params.icp.inlier_m,
                            .normal_cos = params.icp.normal_cos,
-                           .normal_step_px = params.normal_step_px};
+                           .normal_step_px = params.normal_step_px,
+                           .noise = params.depth_noise};
     const PixelPairs s = pair_by_pixel(previous_static, frame, camera, Eigen::Matrix3d::Identity(),
                                        Eigen::Vector3d::Zero(), gate);
     if (s.pairs >= 50) {
@@ -244,7 +246,8 @@ CameraMotionResult estimate_camera_motion(const TrackingModel& previous_static, 
                    .huber_sigmas = ip.huber_sigmas,
                    .inlier_m = ip.inlier_m,
                    .normal_cos = ip.normal_cos,
-                   .normal_step_px = params.normal_step_px};
+                   .normal_step_px = params.normal_step_px,
+                   .noise = params.depth_noise};
   for (int it = 0; it < ip.max_iterations; ++it) {
     PixelPairs s = pair_by_pixel(previous_static, frame, camera, rot, t, gate);
     if (s.pairs < 50) break;

@@ -264,7 +264,8 @@ std::optional<Vec3> upright_panel(const Frame& f, const std::vector<int>& grid, 
   // Upright: the face's normal within 30 degrees of horizontal (sin 30 = 0.5).
   if (std::abs(n.x() * up.x + n.y() * up.y + n.z() * up.z) > 0.5) return std::nullopt;
   const double spread = std::sqrt(std::max(0.0, n.dot(cov * n)));
-  if (spread > params.panel_noise_factor * kinect_sigma_z(mean.z())) return std::nullopt;
+  if (spread > params.panel_noise_factor * params.depth_noise.sigma_z(mean.z()))
+    return std::nullopt;
   return Vec3{n.x(), n.y(), n.z()};
 }
 
@@ -320,7 +321,7 @@ bool runs_below_support(const Frame& f, const std::vector<int>& grid, int step, 
     // Along the plane the depth noise moves an upright face's points by up to three
     // sigma_z; the support in front of the foot runs farther (a sphere's lowest visible
     // point lies ahead of its contact, the table's front edge 2 cm on).
-    const double tol = 3 * kinect_sigma_z(p.z);
+    const double tol = 3 * params.depth_noise.sigma_z(p.z);
     bool seen = false, under = false;
     for (int r = 1; r <= kBelowRows; ++r) {
       const int j = i + r * row;
@@ -341,7 +342,7 @@ bool runs_below_support(const Frame& f, const std::vector<int>& grid, int step, 
       seen = true;
       // The depth noise moves a point along its ray: its height by sigma_z times the
       // ray's slope against the plane (n . q / z), a millimetre or two at a grazing view.
-      const double sigma_h = kinect_sigma_z(q.z) * std::abs(dot(n, q)) / q.z;
+      const double sigma_h = params.depth_noise.sigma_z(q.z) * std::abs(dot(n, q)) / q.z;
       under =
           under || dot(n, q) + d < -std::max(kFlatSurface, params.below_support_sigmas * sigma_h);
     }

@@ -154,8 +154,8 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
     const double arm_px = std::max(params.min_arm_px, params.arm_m * fx / z);
     // Each depth is a mean of up to 9 pixels: z_p - harmonic(z_a, z_b) has about
     // sqrt(1.5) / 3 of one pixel's noise.
-    const double threshold =
-        std::max(params.min_crease_depth_m, params.noise_factor * 0.41 * kinect_sigma_z(z));
+    const double threshold = std::max(params.min_crease_depth_m,
+                                      params.noise_factor * 0.41 * params.depth_noise.sigma_z(z));
     // Where even a right-angle crease would not stand out of the noise (beyond about
     // 2 m on a Kinect) the test cannot tell: such pixels are never creases.
     if (threshold > params.right_angle_depth_share * arm_px * z / fx) continue;

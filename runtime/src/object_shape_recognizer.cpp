@@ -65,6 +65,7 @@ struct Samples {
   double top = 0;  // object height above the plane
   Local eye;       // the camera (the sensor's origin) in plane coordinates
   bool own_side_hides = true;  // ShapeRecognizerParams::own_side_hides
+  DepthNoise noise;            // ShapeRecognizerParams::depth_noise
   // The support's surface seen around the object (SupportAround), with each point's
   // tolerance, and the image pixels each stands for.
   std::vector<Local> ground;
@@ -665,7 +666,7 @@ double height_sigma(const Samples& s, int i) {
   const Local& q = s.p[static_cast<size_t>(i)];
   const double da = s.eye.a - q.a, db = s.eye.b - q.b, dh = s.eye.h - q.h;
   const double run = std::sqrt(da * da + db * db + dh * dh);
-  return run > 0 ? kinect_sigma_z(std::abs(s.xyz[static_cast<size_t>(i)].z)) * std::abs(dh) / run
+  return run > 0 ? s.noise.sigma_z(std::abs(s.xyz[static_cast<size_t>(i)].z)) * std::abs(dh) / run
                  : 0;
 }
 
@@ -770,7 +771,7 @@ Candidate cone_from_parameters(const Candidate& span_ref, const std::array<doubl
 // count is estimated on an even sample of at most kTaperSample points against as many
 // (a few thousand distances, not the side's square).
 double taper_error(const Samples& s, const std::vector<int>& idx, double h0, double span,
-                   double focal_px) {
+                   const ShapeRecognizerParams& params) {
   constexpr size_t kTaperSample = 64;
   if (idx.size() < 3) return 0;
   const size_t stride = std::max<size_t>(1, idx.size() / kTaperSample);
@@ -778,12 +779,12 @@ double taper_error(const Samples& s, const std::vector<int>& idx, double h0, dou
   size_t sampled = 0;
   for (size_t i = 0; i < idx.size(); ++i) {
     const Vec3& p = s.xyz[idx[i]];
-    const double z = std::abs(p.z), sz = kinect_sigma_z(z), t = (s.p[idx[i]].h - h0) / span;
+    const double z = std::abs(p.z), sz = s.noise.sigma_z(z), t = (s.p[idx[i]].h - h0) / span;
     var_z += sz * sz;
     st += t;
     stt += t * t;
     if (i % stride != 0) continue;
-    const double r = shared_noise_radius_m(z, focal_px);
+    const double r = shared_noise_radius_m(z, params.focal_px, params.depth_noise);
     size_t near = 0;
     for (size_t j = 0; j < idx.size(); j += stride) {  // i itself among them
       const Vec3 d = s.xyz[idx[j]] - p;
@@ -969,7 +970,7 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
   refine_sampled<4>(x, static_cast<int>(idx.size()), tol, residual, params.refine_sample_points);
   double taper_se = -1;  // counted once, when first asked
   const auto error = [&] {
-    if (taper_se < 0) taper_se = taper_error(s, idx, span_ref.h0, span, params.focal_px);
+    if (taper_se < 0) taper_se = taper_error(s, idx, span_ref.h0, span, params);
     return taper_se;
   };
   c = cone_from_parameters(span_ref, x, params, error);
@@ -1653,12 +1654,12 @@ struct SelectionEntry {
 // default MLS radius and window, scanner.cpp smooth_cluster), so points that close share
 // their noise. Each point counts one over the number of points in its neighbourhood,
 // counted on every k-th point (k x that count) so that it costs at most 200 per point.
-double independent_points(const Samples& s, double focal_px) {
+double independent_points(const Samples& s, const ShapeRecognizerParams& params) {
   const size_t stride = std::max<size_t>(1, s.xyz.size() / 200);
   double n = 0;
   for (size_t i = 0; i < s.xyz.size(); ++i) {
     const double z = std::abs(s.xyz[i].z);
-    const double r = shared_noise_radius_m(z, focal_px);
+    const double r = shared_noise_radius_m(z, params.focal_px, params.depth_noise);
     size_t near = 0;
     for (size_t j = i % stride; j < s.xyz.size(); j += stride) {
       const Vec3 d = s.xyz[j] - s.xyz[i];
@@ -1940,11 +1941,12 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     s.na.push_back(s.has_normals ? dot(normals[i], frame.u) : 0.0);
     s.nb.push_back(s.has_normals ? dot(normals[i], frame.v) : 0.0);
     s.tol.push_back(std::max(params.min_tolerance_m,
-                             params.noise_factor * kinect_sigma_z(std::abs(p.z))));
+                             params.noise_factor * params.depth_noise.sigma_z(std::abs(p.z))));
   }
   if (s.p.size() < 12) return out;
   s.eye = frame.to_local(Vec3{0, 0, 0});
   s.own_side_hides = params.own_side_hides;
+  s.noise = params.depth_noise;
   // The support around, an even sample of at most kMostGround points (every k-th).
   constexpr size_t kMostGround = 4000;
   const size_t ground_step = around.points.size() / kMostGround + 1;
@@ -1953,8 +1955,8 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     const Vec3& p = around.points[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
     s.ground.push_back(frame.to_local(p));
-    s.ground_tol.push_back(
-        std::max(params.min_tolerance_m, params.noise_factor * kinect_sigma_z(std::abs(p.z))));
+    s.ground_tol.push_back(std::max(
+        params.min_tolerance_m, params.noise_factor * params.depth_noise.sigma_z(std::abs(p.z))));
   }
   std::vector<double> hs;
   for (const Local& p : s.p) hs.push_back(p.h);
@@ -2021,7 +2023,8 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   double mean_tol = 0;
   for (double t : s.tol) mean_tol += t;
   mean_tol /= static_cast<double>(s.tol.size());
-  const double tol_1m = std::max(params.min_tolerance_m, params.noise_factor * kinect_sigma_z(1.0));
+  const double tol_1m =
+      std::max(params.min_tolerance_m, params.noise_factor * params.depth_noise.sigma_z(1.0));
   const double margin_scale = std::min(1.0, (tol_1m / mean_tol) * (tol_1m / mean_tol));
   const double complexity_margin = params.complexity_margin * margin_scale;
   // Each candidate is judged once: bounds, fit to the points, frustum or cylinder; its
@@ -2105,7 +2108,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
           index.push_back(static_cast<int>(i));
         }
       if (index.size() < 2) return;
-      if (independent.value < 0) independent.value = independent_points(s, params.focal_px);
+      if (independent.value < 0) independent.value = independent_points(s, params);
       best = index[static_cast<size_t>(margin_paid_choice(entries, independent.value, tol2,
                                                           1 - params.complexity_margin))];
       return;
@@ -2120,7 +2123,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
         saturated += cands[i].coverage >= 1 - params.complexity_margin;
       }
     if (saturated < 2) return;  // nothing to choose between
-    if (independent.value < 0) independent.value = independent_points(s, params.focal_px);
+    if (independent.value < 0) independent.value = independent_points(s, params);
     const int pick = saturated_choice(entries, independent.value, tol2, 1 - params.complexity_margin);
     if (pick >= 0) best = index[static_cast<size_t>(pick)];
   };

@@ -57,6 +57,10 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.positive("plane_distance_m", p.plane_distance_m);
   c.non_negative("plane_noise_factor", p.plane_noise_factor);
   c.non_negative("pixel_units_focal_px", p.pixel_units_focal_px);
+  if (!p.depth_noise.positive())
+    c.fail(
+        "depth_noise",
+        "must be above 0 at every depth (base_m > 0, or quadratic_per_m > 0 with centre_m <= 0)");
   c.at_least("plane_iterations", p.plane_iterations, 1);
   // A pixel's prism mark holds 1 + a support's index, or past a seen part 1 + the count
   // + the index, in a byte.

@@ -233,7 +233,8 @@ std::optional<PhysicalObject> free_region(const Frame& frame, const ScanSupport&
     const double h = dot(n, q) + d;
     if (h > scan_params.max_height_m) continue;
     const double band =
-        std::max(scan_params.plane_distance_m, scan_params.plane_noise_factor * kinect_sigma_z(p.z));
+        std::max(scan_params.plane_distance_m,
+                 scan_params.plane_noise_factor * scan_params.depth_noise.sigma_z(p.z));
     if (h < -band) continue;
     const Vec3 r = q - origin;
     int col = 0, row = 0;
@@ -325,8 +326,9 @@ std::vector<PhysicalObject> find_plane_candidates(const Frame& frame, const Scan
     const double z = scan.scene.objects[k].primitives.empty()
                          ? 1.0
                          : scan.scene.objects[k].primitives.front().center.z;
-    const double band = std::max(scan_params.plane_distance_m,
-                                 scan_params.plane_noise_factor * kinect_sigma_z(z));
+    const double band =
+        std::max(scan_params.plane_distance_m,
+                 scan_params.plane_noise_factor * scan_params.depth_noise.sigma_z(z));
     if (auto face = box_face(scan.clusters[k], scan.scene.objects[k], params, band))
       out.push_back(std::move(*face));
   }

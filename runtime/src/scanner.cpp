@@ -78,25 +78,26 @@ Frame organize(const Frame& in) {
 // The plane's inlier band at depth z: the configured width, or wider where the
 // Kinect's axial noise grows (a floor 3 m away is ~1.4 cm noisy).
 double plane_band(const ScanParams& params, double z) {
-  return std::max(params.plane_distance_m, params.plane_noise_factor * kinect_sigma_z(z));
+  return std::max(params.plane_distance_m,
+                  params.plane_noise_factor * params.depth_noise.sigma_z(z));
 }
 
 // sigma_z at the pixel p over its ray's length |p|: the noise moves a point along its
 // ray, so off a plane of normal n it is this times |n . p| (noise_across, band_noise).
-double noise_per_ray_m(Vec3 p) {
-  return kinect_sigma_z(p.z) / std::max(norm(p), 1e-9);
+double noise_per_ray_m(const DepthNoise& noise, Vec3 p) {
+  return noise.sigma_z(p.z) / std::max(norm(p), 1e-9);
 }
 
 // The spread of the difference of two raw returns' depths at depth z (sigma_z sqrt 2):
 // how far apart two pixels of one surface may read.
-double two_returns_sigma(double z) {
-  return std::sqrt(2.0) * kinect_sigma_z(z);
+double two_returns_sigma(const DepthNoise& noise, double z) {
+  return std::sqrt(2.0) * noise.sigma_z(z);
 }
 
 // The depth noise off a plane of normal n at the pixel p: sigma_z along its ray, seen
 // across the plane (|n . ray|).
-double noise_across(Vec3 p, Vec3 n) {
-  return noise_per_ray_m(p) * std::abs(dot(n, p));
+double noise_across(const DepthNoise& noise, Vec3 p, Vec3 n) {
+  return noise_per_ray_m(noise, p) * std::abs(dot(n, p));
 }
 
 // The band of heights over a support's plane n where the pixel p is its surface, not an
@@ -112,13 +113,14 @@ double surface_band(const ScanParams& params, Vec3 p, Vec3 n, double scale, doub
 
 // p's plane_noise_factor sigma_z / |p| (surface_band).
 double band_noise(const ScanParams& params, Vec3 p) {
-  return params.plane_noise_factor * noise_per_ray_m(p);
+  return params.plane_noise_factor * noise_per_ray_m(params.depth_noise, p);
 }
 
 // Cluster tolerance at depth z: the configured one, or wider where depth noise makes
 // neighbours on one surface lie farther apart (a wardrobe 3.5 m away is not sliced).
 double cluster_tolerance(const ScanParams& params, double z) {
-  return std::max(params.cluster_tolerance_m, params.cluster_noise_factor * kinect_sigma_z(z));
+  return std::max(params.cluster_tolerance_m,
+                  params.cluster_noise_factor * params.depth_noise.sigma_z(z));
 }
 
 // The scan's worker threads (scan_pool.h), set by scan_frame for as long as it runs:
@@ -451,17 +453,19 @@ struct SurfaceGrid {
   int w, h, reach;
   int least_reach;  // reach / 4; reach itself where any neighbour counts (90 degrees)
   float spread;     // per pixel apart and metre of depth: 1 / (focal cos(max_incidence_deg))
+  DepthNoise noise;
   // Sigmas of two returns' difference (two_returns_sigma) a neighbour may lie further.
   static constexpr double kNoiseSigmas = 3;
 
-  SurfaceGrid(const Frame& f, int reach_px, double max_incidence_deg)
+  SurfaceGrid(const Frame& f, int reach_px, double max_incidence_deg, const DepthNoise& depth_noise)
       : pts(f.points.data()),
         w(f.width),
         h(f.height),
         reach(reach_px),
         least_reach(max_incidence_deg >= 90 ? reach_px : std::max(1, reach_px / 4)),
-        spread(static_cast<float>(
-            1 / (focal_px(f) * std::max(1e-9, cos_degrees(max_incidence_deg))))) {}
+        spread(
+            static_cast<float>(1 / (focal_px(f) * std::max(1e-9, cos_degrees(max_incidence_deg))))),
+        noise(depth_noise) {}
 
   // Whether pixel j has depth and lies on pixel i's surface: within the spread an
   // oblique surface gives, plus three sigma of two returns' depth noise. Past that lies a
@@ -473,7 +477,7 @@ struct SurfaceGrid {
     if (!(b.z > 0)) return false;
     const float dx = b.x - a.x, dy = b.y - a.y, dz = b.z - a.z;
     const float most = a.z * spread * static_cast<float>(apart) +
-                       static_cast<float>(kNoiseSigmas * two_returns_sigma(a.z));
+                       static_cast<float>(kNoiseSigmas * two_returns_sigma(noise, a.z));
     return dx * dx + dy * dy + dz * dz <= most * most;
   }
 
@@ -517,7 +521,7 @@ struct SurfaceGrid {
 // not a wall's by 45.
 SurfaceGrid surface_grid(const Frame& f, const ScanParams& params) {
   return {f, kSurfaceNormalSteps * std::max(1, params.pixel_stride),
-          params.surface_max_incidence_deg};
+          params.surface_max_incidence_deg, params.depth_noise};
 }
 
 // Which of `pixels` lie on a surface facing up (SurfaceGrid::faces_up); `cells` are their
@@ -984,7 +988,7 @@ SupportAround support_around(const Frame& f, const std::vector<int>& pixels,
       if (label[i] >= 0 || enclosed || !has_depth(f.points[i])) continue;
       const Vec3 p = to_vec(f.points[i]);
       const double h = dot(n, p) + d;
-      const double noise = params.plane_noise_factor * kinect_sigma_z(p.z);
+      const double noise = params.plane_noise_factor * params.depth_noise.sigma_z(p.z);
       if (std::abs(h) < std::min(noise, params.min_height_m)) out.points.push_back(p);
     }
   return out;
@@ -1008,7 +1012,8 @@ void smooth_cluster(const Frame& f, const std::vector<int>& pixels, const std::v
     // Far away, pixels spread and depth steps grow (1.8 cm at 2.5 m): the radius
     // widens to reach the window's pixels and span the noise, else no plane is found.
     const double pixel_m = p.z / fx;  // the pixels' spacing at that depth
-    const double r = std::max({params.mls_radius_m, 3 * kinect_sigma_z(p.z), 1.5 * w * pixel_m});
+    const double r =
+        std::max({params.mls_radius_m, 3 * params.depth_noise.sigma_z(p.z), 1.5 * w * pixel_m});
     const double r2 = r * r;
     // The sums of the coordinates and of their six distinct products (the second
     // moments are symmetric), two to a packed pair: each lane adds the same products in
@@ -1316,7 +1321,8 @@ std::vector<double> surface_noise_scale(const Frame& f, const std::vector<Found>
     for (size_t m = 0; m < members.size(); m += step) {
       const Vec3 p = to_vec(f.points[static_cast<size_t>(members[m])]);
       const double h = dot(found[k].plane.n, p) + found[k].plane.d;
-      ratio.push_back(std::abs(h) / std::max(noise_across(p, found[k].plane.n), 1e-6));
+      ratio.push_back(std::abs(h) /
+                      std::max(noise_across(params.depth_noise, p, found[k].plane.n), 1e-6));
     }
     if (ratio.size() < kLeast) continue;
     std::nth_element(ratio.begin(), ratio.begin() + ratio.size() / 2, ratio.end());
@@ -1466,7 +1472,7 @@ GapReach gap_reach(const Frame& f, const std::vector<PlaneRegions>& regions, con
     for (int i : reg.members) {
       const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
       const double a = dot(u, p), b = dot(v, p),
-                   reach = params.support_gap_reach_sigmas * kinect_sigma_z(p.z);
+                   reach = params.support_gap_reach_sigmas * params.depth_noise.sigma_z(p.z);
       uvr.push_back({a, b, reach});
       lo_u = std::min(lo_u, a), hi_u = std::max(hi_u, a), lo_v = std::min(lo_v, b), hi_v = std::max(hi_v, b);
       widest = std::max(widest, reach);
@@ -1533,7 +1539,7 @@ std::optional<bool> meets_without_step(const Frame& f, const SurfaceGrid& grid,
         const int j = ny * w + nx;
         if (!on_kept[static_cast<size_t>(j)] || !grid.faces_up(j, nx, ny, ux, uy, uz)) continue;
         const Vec3 q = to_vec(pts[j]);
-        steps.push_back(std::abs(dot(plane.n, p - q)) / kinect_sigma_z(0.5 * (p.z + q.z)));
+        steps.push_back(std::abs(dot(plane.n, p - q)) / grid.noise.sigma_z(0.5 * (p.z + q.z)));
       }
   }
   if (steps.empty()) return std::nullopt;
@@ -1827,12 +1833,12 @@ struct WeightedPlane {
   }
 };
 
-WeightedPlane weighted_plane(const std::vector<Vec3>& pts, Vec3 toward) {
+WeightedPlane weighted_plane(const std::vector<Vec3>& pts, Vec3 toward, const DepthNoise& noise) {
   WeightedPlane out;
   if (pts.size() < 50) return out;
   std::vector<double> w(pts.size());
   for (size_t k = 0; k < pts.size(); ++k)
-    w[k] = 1 / (kinect_sigma_z(pts[k].z) * kinect_sigma_z(pts[k].z));
+    w[k] = 1 / (noise.sigma_z(pts[k].z) * noise.sigma_z(pts[k].z));
   const WeightedScatter ws = weighted_point_scatter(pts, w);
   const Eigen::Vector3d& mean = ws.mean;
   out.weight = ws.weight;
@@ -1859,13 +1865,14 @@ constexpr double kTrimSigmas = 2.5;
 // taken from the median absolute residual (in units of each point's sigma_z): the
 // outliers to one side of a band (objects' feet, a support's front edge) lean a least-
 // squares fit toward them; the median does not.
-WeightedPlane trimmed_plane(const std::vector<Vec3>& in, Vec3 toward, int rounds = kTrimRounds) {
-  WeightedPlane own = weighted_plane(in, toward);
+WeightedPlane trimmed_plane(const std::vector<Vec3>& in, Vec3 toward, const DepthNoise& noise,
+                            int rounds = kTrimRounds) {
+  WeightedPlane own = weighted_plane(in, toward, noise);
   std::vector<double> residual(in.size()), sorted;
   std::vector<Vec3> kept;
   for (int round = 0; round < rounds && own.fit.ok; ++round) {
     for (size_t k = 0; k < in.size(); ++k)
-      residual[k] = std::abs(dot(own.fit.n, in[k]) + own.fit.d) / kinect_sigma_z(in[k].z);
+      residual[k] = std::abs(dot(own.fit.n, in[k]) + own.fit.d) / noise.sigma_z(in[k].z);
     sorted = residual;
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
     // A normal distribution's sigma from its median absolute residual.
@@ -1873,7 +1880,7 @@ WeightedPlane trimmed_plane(const std::vector<Vec3>& in, Vec3 toward, int rounds
     kept.clear();
     for (size_t k = 0; k < in.size(); ++k)
       if (residual[k] < kTrimSigmas * robust_sigma) kept.push_back(in[k]);
-    own = weighted_plane(kept, toward);
+    own = weighted_plane(kept, toward, noise);
   }
   return own;
 }
@@ -1912,12 +1919,13 @@ std::vector<char> facing_plane(const Frame& f, const std::vector<int>& members, 
   return keep;
 }
 
-// The median of `pts`' distances from `plane`, each in units of the Kinect's axial noise
-// at its depth.
-double median_abs_residual(const std::vector<Vec3>& pts, const PlaneFit& plane) {
+// The median of `pts`' distances from `plane`, each in units of the axial noise at its
+// depth.
+double median_abs_residual(const std::vector<Vec3>& pts, const PlaneFit& plane,
+                           const DepthNoise& noise) {
   std::vector<double> r;
   r.reserve(pts.size());
-  for (const Vec3& q : pts) r.push_back(std::abs(dot(plane.n, q) + plane.d) / kinect_sigma_z(q.z));
+  for (const Vec3& q : pts) r.push_back(std::abs(dot(plane.n, q) + plane.d) / noise.sigma_z(q.z));
   if (r.empty()) return 0;
   std::nth_element(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(r.size() / 2), r.end());
   return r[r.size() / 2];
@@ -1946,7 +1954,7 @@ std::optional<PlaneFit> region_plane(const Frame& f, const std::vector<int>& mem
     const Vec3 q = to_vec(f.points[static_cast<size_t>(members[k])]);
     if (facing[k] && std::abs(dot(joint.n, q) + joint.d) < plane_band(params, q.z)) in.push_back(q);
   }
-  const WeightedPlane own = trimmed_plane(in, joint.n);
+  const WeightedPlane own = trimmed_plane(in, joint.n, params.depth_noise);
   if (!own.fit.ok) return std::nullopt;
   const double z = params.support_fit_sigmas;
   const bool apart = own.joint_chi2(joint) > z * z;
@@ -1957,9 +1965,9 @@ std::optional<PlaneFit> region_plane(const Frame& f, const std::vector<int>& mem
   // whose band holds a chair's seat behind the table leans toward the seat, and its
   // standard errors do not show it (unseen rooms 7030: 1.5 degrees off the truth, the
   // found plane 0.03).
-  const double joint_median = median_abs_residual(in, joint);
-  const bool better =
-      !params.support_fit_median_test || median_abs_residual(in, own.fit) < joint_median;
+  const double joint_median = median_abs_residual(in, joint, params.depth_noise);
+  const bool better = !params.support_fit_median_test ||
+                      median_abs_residual(in, own.fit, params.depth_noise) < joint_median;
   if (apart && sure && near && better && own.fit.d > 0) return own.fit;
   // Its tilt unsure (a small top far away), its height is not: the joint plane through
   // its pixels' weighted mean, when that lies support_fit_sigmas of the height's standard
@@ -1969,7 +1977,8 @@ std::optional<PlaneFit> region_plane(const Frame& f, const std::vector<int>& mem
     const PlaneFit shifted{joint.n, joint.d - h, true};
     const bool off =
         h * h * own.weight > z * z * own.sigma * own.sigma && std::abs(h) > params.plane_distance_m;
-    if (off && shifted.d > 0 && median_abs_residual(in, shifted) < joint_median) return shifted;
+    if (off && shifted.d > 0 && median_abs_residual(in, shifted, params.depth_noise) < joint_median)
+      return shifted;
   }
   return std::nullopt;
 }
@@ -2016,13 +2025,13 @@ constexpr size_t kNoiseFitSample = 8;
 // round's band, as wide as the noise, takes in more of the surface the plane lies on.
 // A round whose plane leaves `max_angle_deg` of `up` ends the rounds before it.
 PlaneFit noise_fit_plane(const std::vector<Vec3>& pool, const std::vector<double>& band,
-                         PlaneFit plane, Vec3 up, double max_angle_deg) {
+                         PlaneFit plane, Vec3 up, double max_angle_deg, const DepthNoise& noise) {
   std::vector<Vec3> in;
   for (int round = 0; round < kNoiseFitRounds; ++round) {
     in.clear();
     for (size_t k = 0; k < pool.size(); k += kNoiseFitSample)
       if (std::abs(dot(plane.n, pool[k]) + plane.d) < band[k]) in.push_back(pool[k]);
-    const WeightedPlane own = trimmed_plane(in, up, 1);
+    const WeightedPlane own = trimmed_plane(in, up, noise, 1);
     if (!own.fit.ok || dot(own.fit.n, up) < cos_degrees(max_angle_deg) || own.fit.d <= 0) break;
     const double turn = std::acos(std::min(1.0, dot(own.fit.n, plane.n)));
     plane = own.fit;
@@ -2130,8 +2139,8 @@ PlaneFit noise_fit_plane(const std::vector<Vec3>& pool, const std::vector<double
     // The first plane fitted on the noise model replaces RANSAC's when it turns it by
     // noise_fit_min_turn_deg or more (scanner.h says why).
     if (planes.empty() && ps.plane.ok && params.first_plane_noise_fit) {
-      const PlaneFit fitted =
-          noise_fit_plane(pool_pts, pool_band, ps.plane, up, params.max_plane_angle_deg);
+      const PlaneFit fitted = noise_fit_plane(pool_pts, pool_band, ps.plane, up,
+                                              params.max_plane_angle_deg, params.depth_noise);
       if (dot(fitted.n, ps.plane.n) <= cos_degrees(params.noise_fit_min_turn_deg))
         ps.plane = fitted;
     }
@@ -2492,11 +2501,13 @@ void scale_pixel_units(ScanParams& p, double k) {
 constexpr double kFocalCalibrationSpread = 1.15;
 
 // The parameters with the frame's camera: the recognizer counts pixels with its focal
-// length (ShapeRecognizerParams::focal_px), and the pixel-unit parameters follow it from
-// the nearer end of the calibrations' range.
+// length (ShapeRecognizerParams::focal_px), the recognizer and the segmenter take the
+// scan's depth noise, and the pixel-unit parameters follow the focal length from the
+// nearer end of the calibrations' range.
 ScanParams with_camera_of(const Frame& f, const ScanParams& given) {
   ScanParams p = given;
   p.shape.focal_px = focal_px(f);
+  p.shape.depth_noise = p.segment.depth_noise = p.depth_noise;
   if (!(p.pixel_units_focal_px > 0)) return p;
   const double k = p.shape.focal_px / p.pixel_units_focal_px;
   if (!std::isfinite(k) || !(k > 0)) return p;
@@ -2817,8 +2828,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
       const double z = f.points[i].z;
       // How much farther a pixel above may lie and still be as near as the top
       // (top_look_noise_sigmas).
-      const double near_tol = std::max(cluster_tolerance(params, z),
-                                       params.top_look_noise_sigmas * two_returns_sigma(z));
+      const double near_tol =
+          std::max(cluster_tolerance(params, z),
+                   params.top_look_noise_sigmas * two_returns_sigma(params.depth_noise, z));
       // The first pixel of the support's front edge above the cluster, once seen: the
       // look-up spans six grid rows, or the edge's thickness (support_edge_m) where it
       // covers more rows (a table's edge 60 cm from the camera spans ten).
@@ -3364,6 +3376,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   const TouchingSplitParams touching{.max_whole_coverage = params.touching_max_coverage,
                                      .two_feet_coverage = params.touching_two_feet_coverage,
                                      .gap_evidence = params.touching_gap_evidence,
+                                     .depth_noise = params.depth_noise,
                                      .min_part_coverage = params.touching_part_coverage,
                                      .min_part_size_m = params.touching_min_part_size_m,
                                      .waist_share = params.touching_waist_share,

@@ -41,6 +41,9 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
   std::uint64_t seed = p.shape.seed;
   const std::vector<Field> fields = {
       {"camera_tilt_deg", Kind::angle, &p.camera_tilt_deg},
+      {"depth_noise_base_m", Kind::non_negative, &p.depth_noise.base_m},
+      {"depth_noise_quadratic", Kind::non_negative, &p.depth_noise.quadratic_per_m},
+      {"depth_noise_centre_m", Kind::real, &p.depth_noise.centre_m},
       {"max_plane_angle_deg", Kind::angle, &p.max_plane_angle_deg},
       {"first_plane_fits_up", Kind::flag, nullptr, nullptr, 0, &p.first_plane_fits_up},
       {"first_plane_normals_up", Kind::flag, nullptr, nullptr, 0, &p.first_plane_normals_up},
@@ -232,6 +235,13 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       Result<ScanParams> chosen = with_support_selection(p, tok[1].text);
       if (!chosen) return error(chosen.error().message, line_no, tok[1].column);
       p = *chosen;
+    } else if (key == "depth_noise") {
+      const std::optional<DepthNoise> noise = depth_noise_named(tok[1].text);
+      if (!noise)
+        return error("'depth_noise' expects one of " + std::string(kDepthNoiseNames) + ", got " +
+                         in_quotes(tok[1].text),
+                     line_no, tok[1].column);
+      p.depth_noise = *noise;
     } else if (key == "seed") {
       std::uint64_t s = 0;
       const std::string_view t = tok[1].text;
@@ -245,7 +255,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       for (const Field& f : fields)
         if (f.key == key) field = &f;
       if (!field) {
-        std::vector<std::string_view> keys{"up", "seed", "supports"};
+        std::vector<std::string_view> keys{"up", "seed", "supports", "depth_noise"};
         for (const Field& f : fields) keys.push_back(f.key);
         return error("unknown key " + in_quotes(key) + detail::suggestion(key, keys), line_no,
                      tok[0].column);
@@ -291,6 +301,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
     return error("max_height_m must exceed min_height_m", 0, 0);
   if (p.shape.max_radius_m <= p.shape.min_radius_m)
     return error("shape_max_radius_m must exceed shape_min_radius_m", 0, 0);
+  if (!p.depth_noise.positive()) return error(std::string(kDepthNoiseMustBePositive), 0, 0);
   p.shape.seed = seed;
   return p;
 }

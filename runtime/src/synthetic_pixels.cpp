@@ -58,7 +58,7 @@ void sense_pixels(const std::vector<PixelHit>& hits, const CameraIntrinsics& cam
         const double draw = draws.unit(draws.rng);
         const double e = draws.gauss(draws.rng);
         if (draw >= keep) continue;
-        depth = z + kinect_axial_sigma_m(z) * e;
+        depth = z + noise.axial.sigma_z(z) * e;
       }
       p.x = static_cast<float>(px.ray_x * depth);
       p.y = static_cast<float>(px.ray_y * depth);

@@ -222,7 +222,7 @@ std::function<double(const synthetic_pixels::SurfaceHit&)> dark_return(const Syn
 }  // namespace
 
 double kinect_axial_sigma_m(double z_m) {
-  return 0.0012 + 0.0019 * (z_m - 0.4) * (z_m - 0.4);
+  return DepthNoise{}.sigma_z(z_m);
 }
 
 Vec3 table_to_camera_direction(const SyntheticScene& scene, Vec3 d) {

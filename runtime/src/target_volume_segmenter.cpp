@@ -127,7 +127,8 @@ TargetCloud segment_target_volume(const Frame& frame, const std::optional<Camera
     if (std::abs(p.x - c.x) > h || std::abs(p.y - c.y) > h || std::abs(p.z - c.z) > h) return false;
     if (support) {
       const double height = dot(support->normal, to_vec(p)) + support->d;
-      if (height < std::max(params.min_height_m, params.support_noise_sigmas * kinect_sigma_z(p.z)))
+      if (height < std::max(params.min_height_m,
+                            params.support_noise_sigmas * params.depth_noise.sigma_z(p.z)))
         return false;
     }
     return true;

@@ -17,6 +17,7 @@ struct FitTerms {
   double pixels = 0;     // full-resolution pixels
   double depth = 0;      // their mean depth
   double focal_px = 0;   // the frame's: a pixel's footprint at that depth is depth / focal_px
+  DepthNoise noise;      // the camera's (ShapeRecognizerParams::depth_noise)
   double coverage = 0, rms = 0;
   int parameters = 0;
   bool recognised = false;
@@ -32,7 +33,7 @@ const ShapeFit* fit_of(const ScanCluster& c) {
   return best;
 }
 
-FitTerms terms_of(const Frame& f, const ScanCluster& c) {
+FitTerms terms_of(const Frame& f, const ScanCluster& c, const DepthNoise& noise) {
   FitTerms t;
   double z = 0;
   int n = 0;
@@ -44,6 +45,7 @@ FitTerms terms_of(const Frame& f, const ScanCluster& c) {
   t.pixels = n;
   t.depth = n > 0 ? z / n : 1;
   t.focal_px = focal_px(f);
+  t.noise = noise;
   t.recognised = !c.shape.primitives.empty();
   if (const ShapeFit* fit = fit_of(c)) {
     t.coverage = fit->coverage;
@@ -58,14 +60,14 @@ FitTerms terms_of(const Frame& f, const ScanCluster& c) {
 // recognizer's independent_points).
 double independent(const FitTerms& t) {
   const double z = t.depth, pixel = z / t.focal_px;
-  const double r = shared_noise_radius_m(z, t.focal_px);
+  const double r = shared_noise_radius_m(z, t.focal_px, t.noise);
   return std::max(1.0, t.pixels * pixel * pixel / (kPi * r * r));
 }
 
 // The mean squared residual per point in units of the axial noise: explained points
 // at the fit's RMS, the others at least at the fit's tolerance.
 double residual_energy(const FitTerms& t, const ShapeRecognizerParams& shape) {
-  const double sigma = kinect_sigma_z(t.depth);
+  const double sigma = t.noise.sigma_z(t.depth);
   const double tol = std::max(shape.min_tolerance_m, shape.noise_factor * sigma);
   return t.coverage * (t.rms / sigma) * (t.rms / sigma) + (1 - t.coverage) * (tol / sigma) * (tol / sigma);
 }
@@ -193,7 +195,8 @@ double footprint_radius(const ShapeFit& fit) {
 // Whether the fit leaves pixel p out: farther from its surface than the tolerance at p's
 // depth.
 bool left_out_by(const ShapeFit& fit, const PointXYZRGB& p, const ShapeRecognizerParams& shape) {
-  const double tol = std::max(shape.min_tolerance_m, shape.noise_factor * kinect_sigma_z(p.z));
+  const double tol =
+      std::max(shape.min_tolerance_m, shape.noise_factor * shape.depth_noise.sigma_z(p.z));
   return surface_distance(fit, Vec3{p.x, p.y, p.z}) > tol;
 }
 
@@ -309,7 +312,8 @@ bool two_feet(const Frame& f, const ScanCluster& c, const MeansCut& means, doubl
   // shelf's board over the floor) does not stand there.
   if (foot.q.empty()) return bottom < 0.5 * top;
   return footprint_waist(foot, params.waist_share) &&
-         fronts_apart(foot, params.notch_sigmas * kinect_sigma_z(depth_m), params.gap_evidence);
+         fronts_apart(foot, params.notch_sigmas * params.depth_noise.sigma_z(depth_m),
+                      params.gap_evidence);
 }
 
 // The criterion (touching_split.h) of a cut into parts a and b against the whole.
@@ -383,10 +387,10 @@ std::optional<TouchingCut> refit_cut(
   // often no body (a bottle's handle and veil on the milk frame), and the first part's
   // refit is then not needed.
   refit(b, nb);
-  const FitTerms tb = terms_of(f, b);
+  const FitTerms tb = terms_of(f, b, shape.depth_noise);
   if (!tb.recognised) return std::nullopt;
   refit(a, na);
-  const FitTerms ta = terms_of(f, a);
+  const FitTerms ta = terms_of(f, a, shape.depth_noise);
   if (!ta.recognised) return std::nullopt;
   Criterion k = criterion(whole, ta, tb, shape);
   bool recognised = both_recognised(ta, tb, params.min_part_coverage);
@@ -409,7 +413,8 @@ std::optional<TouchingCut> refit_cut(
     std::vector<Vec3> na2, nb2;
     refit(a2, na2);
     refit(b2, nb2);
-    const FitTerms ta2 = terms_of(f, a2), tb2 = terms_of(f, b2);
+    const FitTerms ta2 = terms_of(f, a2, shape.depth_noise),
+                   tb2 = terms_of(f, b2, shape.depth_noise);
     const Criterion k2 = criterion(whole, ta2, tb2, shape);
     if (both_recognised(ta2, tb2, params.min_part_coverage) && (!recognised || k2.two < k.two)) {
       a = std::move(a2), b = std::move(b2), na = std::move(na2), nb = std::move(nb2);
@@ -436,7 +441,7 @@ std::optional<TouchingCut> touching_cut(
     const std::function<void(ScanCluster&, std::vector<Vec3>&)>& refit,
     const std::function<bool(const ScanCluster&)>& seen_whole, const ShapeRecognizerParams& shape,
     const TouchingSplitParams& params) {
-  const FitTerms whole = terms_of(f, cluster);
+  const FitTerms whole = terms_of(f, cluster, shape.depth_noise);
   if (whole.coverage >= params.max_whole_coverage || !seen_whole(cluster)) return std::nullopt;
   const int min_points = min_part_pixels(params.min_part_size_m, whole.depth, whole.focal_px);
   const double least = std::max(params.min_part_share * static_cast<double>(cluster.pixels.size()),
@@ -470,7 +475,7 @@ std::optional<TouchingCut> touching_cut(
 
 bool stands_on_two_feet(const Frame& f, const ScanCluster& cluster,
                         const TouchingSplitParams& params) {
-  const FitTerms whole = terms_of(f, cluster);
+  const FitTerms whole = terms_of(f, cluster, params.depth_noise);
   const int min_points = min_part_pixels(params.min_part_size_m, whole.depth, whole.focal_px);
   return two_feet(f, cluster, two_means(f, cluster, params.min_part_share, min_points), whole.depth,
                   params);

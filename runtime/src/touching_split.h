@@ -46,6 +46,9 @@ struct TouchingSplitParams {
   // chance under the foot's sampling is below exp(-gap_evidence)
   // (ScanParams::touching_gap_evidence); 0: the notch alone.
   double gap_evidence = 6.9;  // ln(1000)
+  // The camera's depth noise (depth_noise.h); the scanner sets it from
+  // ScanParams::depth_noise.
+  DepthNoise depth_noise;
   // Each part's shape explains at least this share of its points
   // (ScanParams::touching_part_coverage).
   double min_part_coverage = 0.8;

@@ -1,12 +1,15 @@
 // annex-runtime scan as a user runs it: output lines, files, --repeat, exit codes.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <regex>
-#include <unistd.h>
+#include <sstream>
+#include <string>
 
 #include "annex/formats/scene_format.h"
+#include "annex/runtime/depth_noise.h"
 #include "annex/runtime/pcd_io.h"
 #include "annex/runtime/synthetic_scene.h"
 #include "cli_runner.h"
@@ -74,6 +77,38 @@ TEST(CliScan, SupportsOptionChoosesAndNamesBadChoices) {
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.output.find("no support 's9' in this frame (found: s1"), std::string::npos)
       << missing.output;
+}
+
+// Lines of `output` that start with `prefix`.
+int lines_starting(const std::string& output, const std::string& prefix) {
+  int n = 0;
+  std::istringstream in(output);
+  for (std::string line; std::getline(in, line);) n += line.rfind(prefix, 0) == 0;
+  return n;
+}
+
+TEST(CliScan, DepthNoiseOptionNamesTheCamera) {
+  // A held-out scene seen by an active stereo camera (a RealSense's noise): scanned as a
+  // Kinect frame it falls apart into dozens of pieces; --depth-noise stereo keeps one
+  // object per object on the table.
+  const auto path = temp_dir() / "stereo.pcd";
+  const Result<SyntheticScene> scene = generate_scene(world_scene_params(5010u));
+  ASSERT_TRUE(scene.ok());
+  SensorNoiseParams noise;
+  noise.axial = *depth_noise_named("stereo");
+  ASSERT_TRUE(write_pcd(path, render_scene(*scene, noise).frame).ok());
+  const int truth = static_cast<int>(scene->objects.size());
+  const auto own = run_cli("scan " + shell_quote(path.string()) + " --depth-noise stereo");
+  ASSERT_EQ(own.exit_code, 0) << own.output;
+  EXPECT_LE(lines_starting(own.output, "object "), truth + 1) << own.output;
+  const auto kinect = run_cli("scan " + shell_quote(path.string()));
+  ASSERT_EQ(kinect.exit_code, 0) << kinect.output;
+  EXPECT_GT(lines_starting(kinect.output, "object "), 2 * truth) << kinect.output;
+  const auto bad = run_cli("scan " + shell_quote(path.string()) + " --depth-noise lidar");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("--depth-noise expects one of kinect, stereo, tof, got 'lidar'"),
+            std::string::npos)
+      << bad.output;
 }
 
 TEST(CliScan, WritesSceneAndPng) {

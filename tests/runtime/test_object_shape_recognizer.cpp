@@ -199,7 +199,7 @@ Cloud dark(const std::vector<Surface>& surface, double lit, double keep, std::ui
   for (const Surface& s : surface) {
     const Vec3 ray = normalized(s.p);
     if (-dot(s.n, ray) < lit || pick(rng) > keep) continue;
-    std::normal_distribution<double> noise(0, kinect_sigma_z(s.p.z));
+    std::normal_distribution<double> noise(0, DepthNoise{}.sigma_z(s.p.z));
     c.points.push_back(s.p + ray * noise(rng));
     c.normals.push_back({0, 0, 0});
   }

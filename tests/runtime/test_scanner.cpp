@@ -370,6 +370,7 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->border_px, d.border_px);
   EXPECT_EQ(p->min_whole_points, d.min_whole_points);
   EXPECT_EQ(p->pixel_units_focal_px, d.pixel_units_focal_px);
+  EXPECT_EQ(p->depth_noise, d.depth_noise);
 }
 
 TEST(ScanConfig, ReadsValuesAndComments) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "annex/common/geometry.h"
+#include "annex/runtime/depth_noise.h"
 #include "annex/runtime/frame.h"
 #include "annex/runtime/icp_tracker.h"
 #include "annex/runtime/pose_tracker.h"
@@ -73,6 +74,9 @@ struct CameraMotionParams {
   ProjectiveIcpParams icp;
   StillTestParams still;
   int normal_step_px = 2;       // the grid normals' neighbour offset
+  // The depth camera's noise (depth_noise.h), which the pairing gates count in; a
+  // session gives it its scan's (SessionParams).
+  DepthNoise depth_noise;
   double model_radius_m = 1.5;  // the lever arm of a turn in the convergence test
   // Static points farther than this are left out: the Kinect's depth noise (about 7 mm
   // at 2 m, Nguyen et al. 2012) scatters their grid normals into every direction.

@@ -9,7 +9,7 @@
 //                has 1/z linear in the image, so p's depth behind the plane's
 //                prediction, z_p - 2 / (1/z_a + 1/z_b), is 0 on a plane, negative on
 //                a convex surface and positive in a valley or behind a depth step.
-//                Above max(min_crease_depth_m, noise_factor * its Kinect noise) p is
+//                Above max(min_crease_depth_m, noise_factor * its depth noise) p is
 //                a crease pixel;
 //   regions      grow over non-crease pixels; crease pixels then join the nearest
 //                region; regions too small to be an object join the neighbour they
@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "annex/common/physical_scene.h"
+#include "annex/runtime/depth_noise.h"
 #include "annex/runtime/frame.h"
 
 namespace annex {
@@ -41,6 +42,9 @@ struct SegmenterParams {
   // depth (each of the three depths a 3x3 mean) at that range.
   double min_crease_depth_m = 0.003;
   double noise_factor = 3.0;
+  // The camera's depth noise (depth_noise.h); the scanner sets it from
+  // ScanParams::depth_noise.
+  DepthNoise depth_noise;
   // A region with fewer full-resolution points than this (or this share of its
   // cluster) is a part, not an object: it joins its biggest neighbour.
   int min_object_points = 600;

@@ -13,6 +13,7 @@
 
 #include "annex/common/geometry.h"
 #include "annex/common/physical_scene.h"
+#include "annex/runtime/depth_noise.h"
 #include "annex/runtime/frame.h"
 
 namespace annex {
@@ -21,6 +22,9 @@ struct ShapeRecognizerParams {
   // The depth camera's focal length in pixels, not a threshold: a pixel's footprint at
   // depth z is z / focal_px. The scanner sets it from each frame's intrinsics.
   double focal_px = CameraIntrinsics{}.fx;
+  // The camera's depth noise (depth_noise.h), which every tolerance given in sigmas
+  // scales with; the scanner sets it from ScanParams::depth_noise.
+  DepthNoise depth_noise;
   // Residual tolerance: a point is explained by a shape when its distance to the
   // shape's surface is below max(min_tolerance_m, noise_factor * sigma_z(depth)).
   double min_tolerance_m = 0.004;
@@ -186,15 +190,12 @@ bool within_shape(const ShapeFit& fit, Vec3 p, double margin);
 // cylinder, 6; a plane, which the recognizer does not fit, as a box, 6.
 int fitted_parameter_count(const ShapeFit& fit, const Plane& support);
 
-// Kinect axial noise (Nguyen et al. 2012), metres at depth z metres.
-inline double kinect_sigma_z(double z) { return 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4); }
-
 // The radius the scanner's MLS smooths a point over at depth z with its defaults
 // (scanner.cpp smooth_cluster: 1.2 cm, 3 sigma_z, its window of 6 pixels of a camera
 // with that focal length): points closer than this share their noise, so they are not
 // independent samples.
-inline double shared_noise_radius_m(double z, double focal_px) {
-  return std::max({0.012, 3 * kinect_sigma_z(z), 6 * z / focal_px});
+inline double shared_noise_radius_m(double z, double focal_px, const DepthNoise& noise) {
+  return std::max({0.012, 3 * noise.sigma_z(z), 6 * z / focal_px});
 }
 
 }  // namespace annex

@@ -15,6 +15,7 @@
 #include "annex/common/geometry.h"
 #include "annex/common/physical_scene.h"
 #include "annex/common/result.h"
+#include "annex/runtime/depth_noise.h"
 #include "annex/runtime/frame.h"
 #include "annex/runtime/object_segmenter.h"
 #include "annex/runtime/object_shape_recognizer.h"
@@ -32,6 +33,12 @@ struct ScanParams {
   // The defaults accept supports seen from level (office1) to 75 degrees down.
   Vec3 up{0, -1, 0};
   double camera_tilt_deg = 30;
+  // The camera's depth noise, which every tolerance below given in sigmas or "noise"
+  // scales with (depth_noise.h): the Kinect's by default; config key `depth_noise`
+  // kinect, stereo or tof, or `depth_noise_base_m`, `depth_noise_quadratic` and
+  // `depth_noise_centre_m` for a fitted model. The scan hands it to the recognizer and
+  // the segmenter (ShapeRecognizerParams, SegmenterParams::depth_noise).
+  DepthNoise depth_noise;
   // Planes whose normal is further than this from up are not supports.
   double max_plane_angle_deg = 45;
   // The first plane's inliers, fitted by least squares, face within max_plane_angle_deg

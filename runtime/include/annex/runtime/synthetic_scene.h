@@ -26,6 +26,7 @@
 #include "annex/common/physical_scene.h"
 #include "annex/common/result.h"
 #include "annex/common/shape.h"
+#include "annex/runtime/depth_noise.h"
 #include "annex/runtime/frame.h"
 
 namespace annex {
@@ -185,6 +186,7 @@ struct SensorNoiseParams {
   double edge_jump_m = 0.03;
   double min_range_m = 0.4;  // the Kinect returns nothing nearer or farther
   double max_range_m = 4.0;
+  DepthNoise axial;  // each depth's noise; the Kinect's by default (depth_noise.h)
 };
 
 // Axial (depth) noise sigma in metres at depth z (Nguyen et al. 2012).

@@ -11,6 +11,7 @@
 #include "annex/common/geometry.h"
 #include "annex/common/physical_scene.h"
 #include "annex/common/result.h"
+#include "annex/runtime/depth_noise.h"
 #include "annex/runtime/frame.h"
 
 namespace annex {
@@ -26,12 +27,13 @@ struct TargetVolumeParams {
   // many are visited (ICP needs a few thousand points, not tens of thousands).
   int max_visited_pixels = 8000;
   double min_height_m = 0.006;  // drop points this close to (or below) the support plane
-  // ... or within this many of the Kinect's depth noise sigmas at the point's depth
-  // (Nguyen et al. 2012: 1.9 mm at 1 m, 6 mm at 2 m), so the band follows the support's
+  // ... or within this many of the depth noise's sigmas at the point's depth (the
+  // Kinect's by default: 1.9 mm at 1 m, 6 mm at 2 m), so the band follows the support's
   // scatter on a far table without callers scaling it (0: the fixed height only). More
   // cuts the bottom of props whose model still has it (with 3, a prop hidden by an
   // occluder was not re-found, PoseTracker.RecoversAfterOcclusion).
   double support_noise_sigmas = 2;
+  DepthNoise depth_noise;       // the camera's (depth_noise.h); a session gives it its scan's
   bool normals = true;          // estimate normals on the grid (point-to-plane ICP needs them)
   int normal_step_px = 2;       // neighbour offset of the grid normal estimate
 };
