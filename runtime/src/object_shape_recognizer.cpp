@@ -1486,11 +1486,18 @@ Candidate fit_lying_cylinder_along(const Samples& s, double theta, double ca, do
   return c;
 }
 
+// The oriented box's least half extent: thinner than that, the fit cannot tell.
+constexpr double kThinnestBoxHalf_m = 0.0025;
+
 // A box no thicker than its points' tolerance is one face's noise: one face seen (a
-// furniture panel at a grazing angle, a carton face-on), its depth not measured.
+// furniture panel at a grazing angle, a carton face-on), its depth not measured. So is
+// one at the fit's thinnest (a wall 2 m away seen by a time-of-flight camera spans 4 mm,
+// under the 5 mm the fit reports, its tolerance 4.6 mm).
 bool one_face_thick(const ShapeFit& box, const Samples& s) {
+  if (s.tol.empty()) return false;
   const auto& d = box.primitive.dimensions_m;
-  return !s.tol.empty() && *std::min_element(d.begin(), d.end()) <= quantile(s.tol, 0.5);
+  const double thin = std::max(quantile(s.tol, 0.5), 2 * kThinnestBoxHalf_m);
+  return *std::min_element(d.begin(), d.end()) <= thin;
 }
 
 // A box in any orientation (a laptop lid leaning back, a book on its edge): axes
@@ -1515,7 +1522,7 @@ ShapeFit fit_oriented_box(const Samples& s, const ShapeRecognizerParams& params)
   double half[3];
   Vec3 center;
   for (int k = 0; k < 3; ++k) {
-    half[k] = std::max((hi[k] - lo[k]) / 2, 0.0025);
+    half[k] = std::max((hi[k] - lo[k]) / 2, kThinnestBoxHalf_m);
     center = center + axes[k] * ((hi[k] + lo[k]) / 2);
   }
   double covered = 0, sq = 0;
