@@ -76,7 +76,7 @@ Frame organize(const Frame& in) {
 }
 
 // The plane's inlier band at depth z: the configured width, or wider where the
-// Kinect's axial noise grows (a floor 3 m away is ~1.4 cm noisy).
+// camera's axial noise grows (a floor 3 m away is ~1.4 cm noisy to a Kinect).
 double plane_band(const ScanParams& params, double z) {
   return std::max(params.plane_distance_m,
                   params.plane_noise_factor * params.depth_noise.sigma_z(z));
@@ -1813,7 +1813,7 @@ RaysThrough rays_through(const Frame& f, const std::vector<PlaneRegions>& region
 namespace {
 
 // A plane fitted by least squares with each point weighted by the inverse of the
-// Kinect's axial noise variance at its depth, with what tells how well it is known.
+// camera's axial noise variance at its depth, with what tells how well it is known.
 struct WeightedPlane {
   PlaneFit fit;            // its normal on `toward`'s side
   double sigma = 0;        // the residuals' spread, in units of each point's sigma_z
@@ -1932,7 +1932,7 @@ double median_abs_residual(const std::vector<Vec3>& pts, const PlaneFit& plane,
 }
 
 // A support region's own plane: least squares on its pixels in the band, each weighted
-// by the inverse of the Kinect's axial noise variance at its depth, then trimmed and
+// by the inverse of the camera's axial noise variance at its depth, then trimmed and
 // fitted again kTrimRounds times, the sigma taken from the median absolute residual. The
 // band holds the objects' feet and the top of the support's front edge, outliers to one
 // side the fit leans toward; the median does not. (Only the pixels facing up, as the

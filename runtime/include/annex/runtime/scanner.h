@@ -74,7 +74,7 @@ struct ScanParams {
   // bent 2.6 cm over 2 to 4.5 m, 0.8. More is RANSAC's band stuck on its triple's tilt
   // (plain 6102: 9 degrees; held-out 5035: 2, its floor 8 cm off at the table).
   double noise_fit_min_turn_deg = 1.0;
-  // Plane inlier band: this width, or plane_noise_factor times the Kinect's axial
+  // Plane inlier band: this width, or plane_noise_factor times the camera's axial
   // noise at the point's depth where that is wider (far floor). Points within the
   // band are never object points.
   double plane_distance_m = 0.012;
@@ -127,7 +127,7 @@ struct ScanParams {
   double min_support_gap_m = 0.06;
   // ... where they lie within reach (in the plane) of an earlier support's regions: a
   // band nearer than min_support_gap_m in height is that support's noisy edge only where
-  // the depth noise can put it, support_gap_reach_sigmas of the Kinect's axial sigma at
+  // the depth noise can put it, support_gap_reach_sigmas of the camera's axial sigma at
   // the pixel's depth along its ray, and no less than support_gap_reach_m (the cells'
   // side): 2 to 4 cm up to 2.2 m, 6 to 8 cm at 3.5 m. Farther away it is another surface
   // (a shelf's board 5 cm above the table's top, 10 cm behind its far edge). 0: everywhere
@@ -298,7 +298,7 @@ struct ScanParams {
   // false: off.
   bool support_slab_check = true;
   // A cluster that is one upright flat face, spread along its normal by at most this
-  // many times the Kinect's axial noise at its depth, whose lower end something nearer
+  // many times the camera's axial noise at its depth, whose lower end something nearer
   // hides, is flagged partial: a chair's back or a cabinet's side rising behind the
   // table, whose depth and foot no one sees (a flat face spreads by the noise alone, 1.0
   // to 1.2 times; a box 10 cm deep seen from above, 1 m away, 8 times). A face whose foot
