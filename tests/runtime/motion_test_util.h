@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "annex/runtime/camera_motion.h"
+#include "annex/runtime/depth_noise.h"
 #include "annex/runtime/pose_tracker.h"
 #include "annex/runtime/rigid_motion.h"
 #include "annex/runtime/synthetic_motion.h"
@@ -31,6 +32,9 @@ inline std::vector<Vec3> labelled_points(const SyntheticFrame& f, int label) {
 struct MotionRunOptions {
   bool camera_motion = true;  // estimate the head's motion (else: identity)
   PoseTrackerParams tracker;
+  // The camera's noise the trackers and the camera motion count in (a session sets it
+  // from its scan's, SessionParams).
+  DepthNoise depth_noise;
 };
 
 struct MotionRun {
@@ -100,6 +104,9 @@ inline MotionRun run_motion(const MotionScene& scene, const std::vector<Syntheti
   run.unpredicted_mm.resize(n);
   Plane support = *f0.truth.support;
   CameraMotionParams cam_params;
+  cam_params.depth_noise = options.depth_noise;
+  PoseTrackerParams tracker = options.tracker;
+  tracker.volume.depth_noise = options.depth_noise;
   TrackingModel static_scene = static_scene_model(f0.frame, camera, {}, cam_params);
   Pose last_motion;
   for (size_t k = 1; k < frames.size(); ++k) {
@@ -152,7 +159,7 @@ inline MotionRun run_motion(const MotionScene& scene, const std::vector<Syntheti
       }
       TrackStepTimes times;
       const double c0 = thread_cpu_ms();
-      tracks[i] = track_step(tracks[i], in, options.tracker, &times);
+      tracks[i] = track_step(tracks[i], in, tracker, &times);
       run.track_cpu_ms.push_back(thread_cpu_ms() - c0);
       run.track_ms.push_back(times.segment_ms + times.icp_ms + times.align_ms);
       const TrackingState s = tracks[i].state;
@@ -180,9 +187,10 @@ inline MotionRun run_motion(const MotionScene& scene, const std::vector<Syntheti
   return run;
 }
 
-inline std::vector<SyntheticFrame> render_motion(const MotionScene& scene, int frames) {
+inline std::vector<SyntheticFrame> render_motion(const MotionScene& scene, int frames,
+                                                 const SensorNoiseParams& noise = {}) {
   std::vector<SyntheticFrame> out;
-  for (int k = 0; k < frames; ++k) out.push_back(render_motion_frame(scene, k));
+  for (int k = 0; k < frames; ++k) out.push_back(render_motion_frame(scene, k, noise));
   return out;
 }
 

@@ -6,6 +6,7 @@
 
 #include <cstdio>
 
+#include "annex/runtime/depth_noise.h"
 #include "annex/runtime/track_model_completion.h"
 #include "motion_test_util.h"
 
@@ -129,6 +130,37 @@ TEST(HandSpeed, SameWhileTheHeadTurns3DegreesPerFrame) {
   const auto still = run.errors(run.translation_mm, {1, 2});
   EXPECT_LE(median(still), 1.0);
   EXPECT_LE(*std::max_element(still.begin(), still.end()), 5.0);
+}
+
+// The head-turn sequence seen by an active stereo camera (2.4 times the Kinect's noise at
+// 2 m): the held prop is followed within the hand-speed goals whichever noise the
+// trackers count in; with the camera's own model more closely (0.8 against 1.1 mm).
+// The head's turn is not recovered: pure yaw leaves the table's plane in place, and
+// with this noise the still test cannot tell a 3 degree turn from none (the props' ICP
+// takes the turn up; docs/tracking.md, Limits).
+TEST(HandSpeed, AStereoCameraFollowsTheHeldPropWithItsOwnNoise) {
+  MotionSceneParams p;
+  p.seed = 6;
+  p.held = 1;
+  p.camera_yaw_deg_per_frame = 3;
+  p.camera_velocity_m_per_frame = {0.01, 0, 0};
+  const MotionScene scene = generate_motion_scene(p).value();
+  SensorNoiseParams noise;
+  noise.axial = *depth_noise_named("stereo");
+  const std::vector<SyntheticFrame> frames = test::render_motion(scene, 24, noise);
+  for (const bool own : {false, true}) {
+    test::MotionRunOptions o;
+    if (own) o.depth_noise = noise.axial;
+    const test::MotionRun run = test::run_motion(scene, frames, o);
+    print(own ? "stereo camera, its noise model" : "stereo camera, the Kinect's model", run, {0});
+    print("  still", run, {1, 2});
+    std::printf("  camera motion error at the props: median %.1f mm, %.2f deg\n",
+                median(run.camera_error_mm), median(run.camera_error_deg));
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(run.frames_in(TrackingState::lost, i), 0) << "prop " << i;
+    EXPECT_LE(median(run.errors(run.translation_mm, {0})), 5.0);
+    EXPECT_LE(median(run.errors(run.rotation_deg, {0})), 3.0);
+    EXPECT_LE(median(run.errors(run.translation_mm, {1, 2})), 2.0);
+  }
 }
 
 // Slow sequences (2 mm and 1 degree per frame) stay at about a millimetre.
