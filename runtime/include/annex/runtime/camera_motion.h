@@ -18,7 +18,7 @@ namespace annex {
 
 // The six-degree-of-freedom stage: each static point paired with the point seen at its
 // pixel in the current frame (projective association, as KinectFusion does: no search,
-// O(1) per point), residual along that point's grid normal, weighted by the Kinect's
+// O(1) per point), residual along that point's grid normal, weighted by the camera's
 // depth noise at its depth.
 struct ProjectiveIcpParams {
   double max_correspondence_m = 0.03;     // pairs farther along the normal are rejected
