@@ -219,6 +219,10 @@ namespace Annex
 
         [DllImport(Lib)] internal static extern void annex_scan_params_init(out ScanParams p);
         [DllImport(Lib)] internal static extern Status annex_scanner_create(ref ScanParams p, out IntPtr scanner, out IntPtr e);
+        [DllImport(Lib)]
+        internal static extern Status annex_scanner_create_from_config(string path,
+                                                                       out IntPtr scanner,
+                                                                       out IntPtr e);
         [DllImport(Lib)] internal static extern void annex_scanner_destroy(IntPtr scanner);
         [DllImport(Lib)] internal static extern Status annex_scan(IntPtr scanner, IntPtr frame, out IntPtr scene, out IntPtr e);
         [DllImport(Lib)] internal static extern void annex_scene_destroy(IntPtr scene);
@@ -237,6 +241,12 @@ namespace Annex
 
         [DllImport(Lib)] internal static extern void annex_session_params_init(out SessionParams p);
         [DllImport(Lib)] internal static extern Status annex_session_create(IntPtr spec, ref SessionParams p, out IntPtr session, out IntPtr e);
+        [DllImport(Lib)]
+        internal static extern Status annex_session_create_with_scan_config(IntPtr spec,
+                                                                            ref SessionParams p,
+                                                                            string scanConfigPath,
+                                                                            out IntPtr session,
+                                                                            out IntPtr e);
         [DllImport(Lib)] internal static extern void annex_session_destroy(IntPtr session);
         [DllImport(Lib)] internal static extern Status annex_session_push(IntPtr session, IntPtr frame, out IntPtr e);
         [DllImport(Lib)] internal static extern Status annex_session_objects(IntPtr session, [Out] Object[] buf, UIntPtr capacity, out UIntPtr count, out IntPtr e);
@@ -406,6 +416,17 @@ namespace Annex
             return new Scanner(s);
         }
 
+        /// <summary>
+        /// Every scan parameter from a scan config file (samples/config/scan.conf): the
+        /// depth camera's noise model (<c>depth_noise stereo</c> for a RealSense), the
+        /// supports, every threshold. Throws ParseError naming file:line:column.
+        /// </summary>
+        public static Scanner FromConfig(string path) {
+          Native.Check(Native.annex_scanner_create_from_config(path, out IntPtr s, out IntPtr e),
+                       e);
+          return new Scanner(s);
+        }
+
         /// <summary>The objects on the support, left to right; throws (ScanFailed) without one.</summary>
         public List<PhysicalObject> Scan(Frame frame) => Scan(frame, false);
 
@@ -508,6 +529,18 @@ namespace Annex
         {
             Native.Check(Native.annex_session_create(spec.Live, ref p, out IntPtr s, out IntPtr e), e);
             return new Session(s);
+        }
+
+        /// <summary>
+        /// A session whose scan parameters all come from a scan config file (the camera's
+        /// noise model, the supports, every threshold) in place of <c>p.Scan</c>, whose
+        /// thread count alone still applies.
+        /// </summary>
+        public static Session Create(Spec spec, SessionParams p, string scanConfigPath) {
+          Native.Check(Native.annex_session_create_with_scan_config(
+                           spec.Live, ref p, scanConfigPath, out IntPtr s, out IntPtr e),
+                       e);
+          return new Session(s);
         }
 
         public void Push(Frame frame)

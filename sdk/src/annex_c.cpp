@@ -667,26 +667,58 @@ void annex_session_params_init(annex_session_params* c) {
   annex_intrinsics_init(&c->intrinsics);
 }
 
+namespace {
+
+// The session of `spec` with `params` (defaults for NULL), its scan's parameters `scan`.
+annex_status create_session(const annex_spec* spec, const annex_session_params* params,
+                            const annex::ScanParams& scan, annex_session** out,
+                            annex_error** error) {
+  annex_session_params c;
+  annex_session_params_init(&c);
+  if (params) c = *params;
+  annex::SessionParams p;
+  p.scan = scan;
+  p.scan_every = c.scan_every;
+  p.release_after_frames = c.release_after_frames;
+  p.threads = c.threads;
+  p.match.min_vote = c.min_vote;
+  p.scan_mode = c.background_scan ? annex::ScanMode::background : annex::ScanMode::same_frame;
+  if (c.has_intrinsics) p.camera = intrinsics_from(c.intrinsics);
+  annex::Result<annex::AnnexSession> s = annex::AnnexSession::create(spec->spec, p);
+  if (!s) return fail(error, ANNEX_INVALID_ARGUMENT, s.error());
+  *out = new annex_session(std::move(*s));
+  return ok(error);
+}
+
+}  // namespace
+
 annex_status annex_session_create(const annex_spec* spec, const annex_session_params* params,
                                   annex_session** out, annex_error** error) {
   return guarded(error, [&] {
     if (!spec) return null_argument(error, "annex_session_create", "spec");
     if (!out) return null_argument(error, "annex_session_create", "out");
-    annex_session_params c;
-    annex_session_params_init(&c);
-    if (params) c = *params;
-    annex::SessionParams p;
-    p.scan = scan_params_from(c.scan);
-    p.scan_every = c.scan_every;
-    p.release_after_frames = c.release_after_frames;
-    p.threads = c.threads;
-    p.match.min_vote = c.min_vote;
-    p.scan_mode = c.background_scan ? annex::ScanMode::background : annex::ScanMode::same_frame;
-    if (c.has_intrinsics) p.camera = intrinsics_from(c.intrinsics);
-    annex::Result<annex::AnnexSession> s = annex::AnnexSession::create(spec->spec, p);
-    if (!s) return fail(error, ANNEX_INVALID_ARGUMENT, s.error());
-    *out = new annex_session(std::move(*s));
-    return ok(error);
+    annex_scan_params scan;
+    annex_scan_params_init(&scan);
+    if (params) scan = params->scan;
+    return create_session(spec, params, scan_params_from(scan), out, error);
+  });
+}
+
+annex_status annex_session_create_with_scan_config(const annex_spec* spec,
+                                                   const annex_session_params* params,
+                                                   const char* scan_config_path,
+                                                   annex_session** out, annex_error** error) {
+  return guarded(error, [&] {
+    constexpr const char* kName = "annex_session_create_with_scan_config";
+    if (!spec) return null_argument(error, kName, "spec");
+    if (!scan_config_path) return null_argument(error, kName, "scan_config_path");
+    if (!out) return null_argument(error, kName, "out");
+    annex::Result<annex::ScanParams> scan = annex::read_scan_config_file(scan_config_path);
+    if (!scan) return fail(error, file_status(scan.error()), scan.error());
+    if (annex::Status s = annex::validate_scan_params(*scan, scan_config_path); !s)
+      return fail(error, ANNEX_INVALID_ARGUMENT, s.error());
+    if (params) scan->threads = params->scan.threads;
+    return create_session(spec, params, *scan, out, error);
   });
 }
 

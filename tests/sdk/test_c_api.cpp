@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <random>
@@ -639,6 +640,57 @@ TEST(CApi, SessionParamsAreCheckedAtCreation) {
   EXPECT_EQ(annex_session_objects(session, nullptr, 0, &count, &err), ANNEX_OK);
   EXPECT_EQ(count, 0u);
   annex_session_destroy(session);
+  annex_spec_destroy(spec);
+}
+
+// A session whose scan parameters come from a config file (its camera's noise model,
+// its supports): the file's scan is the one the session runs, and its errors name it.
+TEST(CApi, SessionTakesItsScanFromAConfigFile) {
+  const annex::SyntheticScene scene = make_scene(31, 3);
+  Err err;
+  annex_spec* spec = nullptr;
+  ASSERT_EQ(annex_spec_load_text(spec_text_for(scene).c_str(), "synthetic.haptic", &spec, &err),
+            ANNEX_OK)
+      << err.message();
+  annex_session_params params;
+  annex_session_params_init(&params);
+  params.background_scan = 0;  // the push scans and reports at once
+  const std::string dir = testing::TempDir();
+  const auto write = [&](const std::string& name, const std::string& text) {
+    const std::string path = dir + "/" + name;
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    EXPECT_NE(f, nullptr);
+    if (f) std::fputs(text.c_str(), f), std::fclose(f);
+    return path;
+  };
+  // A support no frame has: the session's scan fails naming it, so it ran the file's.
+  const std::string stereo = write("stereo.conf", "depth_noise stereo\nsupports s9\n");
+  annex_session* session = nullptr;
+  ASSERT_EQ(annex_session_create_with_scan_config(spec, &params, stereo.c_str(), &session, &err),
+            ANNEX_OK)
+      << err.message();
+  annex_frame* frame = frame_of(annex::render_scene(scene, {}, 0).frame);
+  ASSERT_EQ(annex_session_push(session, frame, &err), ANNEX_OK) << err.message();
+  annex_frame_info info;
+  ASSERT_EQ(annex_session_frame_info(session, &info, &err), ANNEX_OK);
+  EXPECT_EQ(info.scan_failed, 1);
+  ASSERT_NE(info.scan_error, nullptr);
+  EXPECT_NE(std::string(info.scan_error).find("no support 's9'"), std::string::npos)
+      << info.scan_error;
+  annex_session_destroy(session);
+  annex_frame_destroy(frame);
+
+  const std::string bad = write("bad.conf", "depth_noise stereo\ndepth_noise lidar\n");
+  session = nullptr;
+  EXPECT_EQ(annex_session_create_with_scan_config(spec, &params, bad.c_str(), &session, &err),
+            ANNEX_PARSE_ERROR);
+  EXPECT_EQ(session, nullptr);
+  EXPECT_NE(err.message().find("bad.conf:2:13"), std::string::npos) << err.message();
+  EXPECT_EQ(annex_session_create_with_scan_config(spec, &params, (dir + "/none.conf").c_str(),
+                                                  &session, &err),
+            ANNEX_IO_ERROR);
+  EXPECT_EQ(annex_session_create_with_scan_config(spec, &params, nullptr, &session, &err),
+            ANNEX_INVALID_ARGUMENT);
   annex_spec_destroy(spec);
 }
 

@@ -150,6 +150,39 @@ static class AnnexTest
             }
         }
 
+        // A scan config file (a RealSense's noise model, the supports) for a scanner and a
+        // session; its errors name file:line:column.
+        string conf =
+            Path.Combine(Path.GetTempPath(), "annex-cs-" + Guid.NewGuid().ToString("N") + ".conf");
+        try {
+          File.WriteAllText(conf, "depth_noise stereo\nsupports s9\n");
+          using (Scanner fromConfig = Scanner.FromConfig(conf)) using (
+              Frame frame = Frame.LoadPcd(
+                  Path.Combine(source, "samples/real/milk_cartoon_all_small_clorox.pcd"))) {
+            try {
+              fromConfig.Scan(frame);
+              Check(false, "a support the frame lacks fails the scan");
+            } catch (AnnexException e) {
+              Check(e.Status == Status.ScanFailed && e.Message.Contains("no support 's9'"),
+                    "the config's supports apply: " + e.Message);
+            }
+          }
+          using (Spec study = Spec.Load(Path.Combine(source, "samples/specs/study.haptic"))) using (
+              Session session = Session.Create(study, SessionParams.Defaults(), conf))
+              Check(session != null, "a session from a scan config");
+          File.WriteAllText(conf, "depth_noise stereo\ndepth_noise lidar\n");
+          try {
+            Scanner.FromConfig(conf);
+            Check(false, "an unknown camera throws");
+          } catch (AnnexException e) {
+            Check(e.Status == Status.ParseError && e.Line == 2 && e.Column == 13 &&
+                      e.Message.Contains("kinect, stereo, tof"),
+                  "bad config: " + e.Message);
+          }
+        } finally {
+          File.Delete(conf);
+        }
+
         // Parameters are checked when the session is made.
         using (Spec study = Spec.Load(Path.Combine(source, "samples/specs/study.haptic")))
         {

@@ -14,6 +14,7 @@ SOURCE = pathlib.Path(os.environ["ANNEX_SOURCE_DIR"])
 SHARED = pathlib.Path(os.environ.get("ANNEX_SHARED_DIR", SOURCE.parent / "shared"))
 RECORDING = SOURCE / "samples" / "recordings" / "tabletop"
 STUDY = SOURCE / "samples" / "specs" / "study.haptic"
+MILK = SOURCE / "samples" / "real" / "milk_cartoon_all_small_clorox.pcd"
 
 
 def frames():
@@ -64,6 +65,19 @@ def test_scan_rejects_bad_arrays_and_configs(tmp_path):
         annex.scan(np.full((48, 64, 3), np.nan, dtype=np.float32))
     with pytest.raises(annex.Error, match="nope.conf"):
         annex.scan(np.zeros((4, 4, 3), dtype=np.float32), config=str(tmp_path / "nope.conf"))
+
+
+def test_a_config_names_the_depth_camera(tmp_path):
+    # A RealSense's noise model from a scan config; an unknown camera names the line.
+    conf = tmp_path / "stereo.conf"
+    conf.write_text("depth_noise stereo\nsupports s9\n")
+    with pytest.raises(annex.Error, match="no support 's9'"):
+        annex.scan(annex.load_pcd(str(MILK)), config=str(conf))
+    spec = annex.read_spec(str(STUDY))
+    assert annex.Session(spec, config=str(conf)) is not None
+    conf.write_text("depth_noise lidar\n")
+    with pytest.raises(annex.Error, match=r"stereo.conf:1:13: error: .*kinect, stereo, tof"):
+        annex.scan(annex.load_pcd(str(MILK)), config=str(conf))
 
 
 def test_specs_read_and_errors_carry_line_and_column():

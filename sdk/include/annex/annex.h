@@ -298,6 +298,15 @@ ANNEX_API void annex_session_params_init(annex_session_params* params);
 ANNEX_API annex_status annex_session_create(const annex_spec* spec,
                                             const annex_session_params* params,
                                             annex_session** out, annex_error** error);
+/// As annex_session_create, but every scan parameter from a scan config file
+/// (samples/config/scan.conf: the camera's noise model `depth_noise`, the supports, every
+/// threshold) in place of `params->scan`, whose `threads` alone still applies. A missing
+/// file is ANNEX_IO_ERROR, a bad line ANNEX_PARSE_ERROR naming file:line:column.
+ANNEX_API annex_status annex_session_create_with_scan_config(const annex_spec* spec,
+                                                             const annex_session_params* params,
+                                                             const char* scan_config_path,
+                                                             annex_session** out,
+                                                             annex_error** error);
 ANNEX_API void annex_session_destroy(annex_session* session);
 
 /// One frame: track every annexed prop, start or apply scans, vote and match. A scan
