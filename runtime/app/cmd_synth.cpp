@@ -3,12 +3,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <system_error>
 #include <utility>
 
 #include "annex/formats/scene_format.h"
+#include "annex/runtime/depth_noise.h"
 #include "annex/runtime/pcd_io.h"
 #include "annex/runtime/synthetic_scene.h"
 #include "commands.h"
@@ -40,9 +42,10 @@ bool write_frame(const std::filesystem::path& dir, int number, const SyntheticFr
 }
 
 int run_synth(const std::vector<std::string>& args) {
-  const auto parsed = parse_args("synth", args,
-                                 {{"occluder", "no-noise"},
-                                  {"seed", "objects", "out", "frames", "scenes", "kinds"}});
+  const auto parsed =
+      parse_args("synth", args,
+                 {{"occluder", "no-noise"},
+                  {"seed", "objects", "out", "frames", "scenes", "kinds", "depth-noise"}});
   if (!parsed) return kExitBadInput;
   if (!parsed->positional.empty()) {
     std::cerr << "annex-runtime synth: error: unexpected argument '" << parsed->positional[0]
@@ -106,6 +109,15 @@ int run_synth(const std::vector<std::string>& args) {
   params.occluder = parsed->has("occluder");
   SensorNoiseParams noise;
   noise.enabled = !parsed->has("no-noise");
+  if (auto v = parsed->get("depth-noise")) {
+    const std::optional<DepthNoise> axial = depth_noise_named(*v);
+    if (!axial) {
+      std::cerr << "annex-runtime synth: error: --depth-noise expects one of " << kDepthNoiseNames
+                << ", got '" << *v << "'\n";
+      return kExitBadInput;
+    }
+    noise.axial = *axial;
+  }
 
   const std::filesystem::path dir(*out);
   std::error_code ec;
@@ -139,6 +151,7 @@ const Command kSynthCommand{
     "synth", "write synthetic tabletop frames with ground truth",
     "usage: annex-runtime synth --out DIR [--seed N] [--objects K] [--frames F | --scenes C]\n"
     "                           [--kinds sphere,cylinder,...] [--occluder] [--no-noise]\n"
+    "                           [--depth-noise NAME]\n"
     "\n"
     "Renders tabletop scenes as a Kinect would see them (640x480, fx = fy = 525, axial\n"
     "noise 0.0012 + 0.0019 (z - 0.4)^2 m, lateral jitter, dropout) and writes\n"
@@ -154,6 +167,9 @@ const Command kSynthCommand{
     "  --kinds LIST   shapes to draw from (default all: sphere,cylinder,cone,torus,box)\n"
     "  --occluder     a box crossing the view between camera and table (with --frames)\n"
     "  --no-noise     exact depths: no noise, jitter or dropout\n"
+    "  --depth-noise NAME  another camera's axial noise: stereo (a RealSense D400,\n"
+    "                 0.0037 z^2 m) or tof (a Kinect v2, an Azure Kinect); kinect, the\n"
+    "                 default (scan these with 'scan --depth-noise NAME')\n"
     "\n"
     "Exit 0 on success, 1 when a scene cannot be laid out or a file cannot be written,\n"
     "2 on bad arguments.\n",

@@ -2,10 +2,14 @@
 // the same seed giving the same bytes, bad arguments refused.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -49,6 +53,45 @@ TEST(CliSynth, WritesFramesWithReadableGroundTruth) {
   EXPECT_EQ(bytes_of(dir / "scene_0000.scene"), bytes_of(again / "scene_0000.scene"));
   fs::remove_all(dir);
   fs::remove_all(again);
+}
+
+// The robust spread (median absolute height over 0.6745) of the table's points around
+// the truth's table plane: the depth noise across it.
+double table_spread(const fs::path& dir) {
+  const Result<Frame> frame = read_pcd(dir / "scene_0000.pcd");
+  const Result<PhysicalScene> truth = read_scene_file(dir / "scene_0000.scene");
+  EXPECT_TRUE(frame.ok() && truth.ok() && truth->support.has_value());
+  if (!frame || !truth || !truth->support) return 0;
+  const Plane& table = *truth->support;
+  std::vector<double> h;
+  for (const PointXYZRGB& p : frame->points) {
+    if (!(p.z > 0)) continue;
+    const double d = dot(table.normal, Vec3{p.x, p.y, p.z}) + table.d;
+    if (std::abs(d) < 0.05) h.push_back(std::abs(d));
+  }
+  if (h.empty()) return 0;
+  std::nth_element(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(h.size() / 2), h.end());
+  return h[h.size() / 2] / 0.6745;
+}
+
+TEST(CliSynth, DepthNoiseRendersAnotherCamerasNoise) {
+  // An active stereo camera's noise is about twice the Kinect's at a metre.
+  const fs::path kinect = fresh_dir("kinect"), stereo = fresh_dir("stereo");
+  ASSERT_EQ(run_cli("synth --seed 3 --objects 0 --out " + shell_quote(kinect.string())).exit_code,
+            0);
+  const CliRun r = run_cli("synth --seed 3 --objects 0 --depth-noise stereo --out " +
+                           shell_quote(stereo.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const double k = table_spread(kinect), st = table_spread(stereo);
+  EXPECT_GT(k, 0.0005);
+  EXPECT_GT(st, 1.5 * k) << "kinect " << k << " m, stereo " << st << " m";
+  const CliRun bad = run_cli("synth --depth-noise lidar --out " + shell_quote(stereo.string()));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("--depth-noise expects one of kinect, stereo, tof, got 'lidar'"),
+            std::string::npos)
+      << bad.output;
+  fs::remove_all(kinect);
+  fs::remove_all(stereo);
 }
 
 TEST(CliSynth, SequencesAndSceneSetsAreNumbered) {
