@@ -264,7 +264,8 @@ std::optional<Vec3> upright_panel(const Frame& f, const std::vector<int>& grid, 
   // Upright: the face's normal within 30 degrees of horizontal (sin 30 = 0.5).
   if (std::abs(n.x() * up.x + n.y() * up.y + n.z() * up.z) > 0.5) return std::nullopt;
   const double spread = std::sqrt(std::max(0.0, n.dot(cov * n)));
-  if (spread > params.panel_noise_factor * params.depth_noise.sigma_z(mean.z()))
+  if (spread > std::max(params.panel_flat_m,
+                        params.panel_noise_factor * params.depth_noise.sigma_z(mean.z())))
     return std::nullopt;
   return Vec3{n.x(), n.y(), n.z()};
 }

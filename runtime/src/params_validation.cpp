@@ -103,6 +103,7 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.non_negative("support_floor_step_sigmas", p.support_floor_step_sigmas);
   c.non_negative("sensor_min_range_m", p.sensor_min_range_m);
   c.non_negative("near_cut_margin_m", p.near_cut_margin_m);
+  c.non_negative("panel_flat_m", p.panel_flat_m);
   c.positive("shape.min_tolerance_m", p.shape.min_tolerance_m);
   c.non_negative("shape.noise_factor", p.shape.noise_factor);
   c.range("shape.min_coverage", p.shape.min_coverage, 0, 1);

@@ -123,6 +123,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"seen_under_raised_bands", Kind::non_negative, &p.seen_under_raised_bands},
       {"support_slab_check", Kind::flag, nullptr, nullptr, 0, &p.support_slab_check},
       {"panel_noise_factor", Kind::non_negative, &p.panel_noise_factor},
+      {"panel_flat_m", Kind::non_negative, &p.panel_flat_m},
       {"panel_span_share", Kind::non_negative, &p.panel_span_share},
       {"below_support_sigmas", Kind::non_negative, &p.below_support_sigmas},
       {"below_support_ends_at_objects", Kind::flag, nullptr, nullptr, 0,

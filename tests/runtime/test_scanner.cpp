@@ -371,6 +371,7 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->min_whole_points, d.min_whole_points);
   EXPECT_EQ(p->pixel_units_focal_px, d.pixel_units_focal_px);
   EXPECT_EQ(p->depth_noise, d.depth_noise);
+  EXPECT_EQ(p->panel_flat_m, d.panel_flat_m);
 }
 
 TEST(ScanConfig, ReadsValuesAndComments) {

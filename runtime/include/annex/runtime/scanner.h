@@ -304,6 +304,11 @@ struct ScanParams {
   // to 1.2 times; a box 10 cm deep seen from above, 1 m away, 8 times). A face whose foot
   // is seen stays whole (a laptop's lid, a box seen face-on from afar). 0: off.
   double panel_noise_factor = 2.0;
+  // ... or by at most this many metres: a piece of furniture is flat to about half a
+  // centimetre, beyond what a quieter camera than the Kinect sees of the noise (a
+  // chair's back 1.5 m away seen from behind spreads 4.5 mm, under a time-of-flight
+  // camera's 1.4 mm sigma). 0: the noise alone.
+  double panel_flat_m = 0.005;
   // ... and one whose foot is seen but which is at least this share as wide, along its
   // face, as the raised support it stands on (that support's seen hull along the same
   // line) is flagged partial too: a prop stands on a surface with room beside it, and a
