@@ -99,15 +99,21 @@ TEST(HandSpeed, FollowsPropsAt40mmAnd15DegreesPerFrame) {
   EXPECT_LT(median(predicted), 12.0);
 }
 
-// The head turns 3 degrees per frame (and sways 1 cm per frame) while a prop is moved:
-// the camera motion is recovered from the static scene, still props stay still.
-TEST(HandSpeed, SameWhileTheHeadTurns3DegreesPerFrame) {
+// One prop in the hand at 40 mm + 15 degrees per frame, two still on the table, while
+// the head turns 3 degrees per frame and sways 1 cm per frame.
+MotionScene head_turning_scene() {
   MotionSceneParams p;
   p.seed = 6;
   p.held = 1;
   p.camera_yaw_deg_per_frame = 3;
   p.camera_velocity_m_per_frame = {0.01, 0, 0};
-  const MotionScene scene = generate_motion_scene(p).value();
+  return generate_motion_scene(p).value();
+}
+
+// The head turns 3 degrees per frame (and sways 1 cm per frame) while a prop is moved:
+// the camera motion is recovered from the static scene, still props stay still.
+TEST(HandSpeed, SameWhileTheHeadTurns3DegreesPerFrame) {
+  const MotionScene scene = head_turning_scene();
   const test::MotionRun run = test::run_motion(scene, test::render_motion(scene, 24));
   print("40 mm + 15 deg/frame, head 3 deg/frame", run, {0});
   print("  still", run, {1, 2});
@@ -139,12 +145,7 @@ TEST(HandSpeed, SameWhileTheHeadTurns3DegreesPerFrame) {
 // with this noise the still test cannot tell a 3 degree turn from none (the props' ICP
 // takes the turn up; docs/tracking.md, Limits).
 TEST(HandSpeed, AStereoCameraFollowsTheHeldPropWithItsOwnNoise) {
-  MotionSceneParams p;
-  p.seed = 6;
-  p.held = 1;
-  p.camera_yaw_deg_per_frame = 3;
-  p.camera_velocity_m_per_frame = {0.01, 0, 0};
-  const MotionScene scene = generate_motion_scene(p).value();
+  const MotionScene scene = head_turning_scene();
   SensorNoiseParams noise;
   noise.axial = *depth_noise_named("stereo");
   const std::vector<SyntheticFrame> frames = test::render_motion(scene, 24, noise);

@@ -63,6 +63,16 @@ std::string spec_text_for(const annex::SyntheticScene& scene) {
   return annex::write_haptic(spec);
 }
 
+// spec_text_for(scene) loaded through the C API; null, with a failure, on an error.
+annex_spec* spec_for(const annex::SyntheticScene& scene) {
+  Err err;
+  annex_spec* spec = nullptr;
+  EXPECT_EQ(annex_spec_load_text(spec_text_for(scene).c_str(), "synthetic.haptic", &spec, &err),
+            ANNEX_OK)
+      << err.message();
+  return spec;
+}
+
 std::vector<float> xyz_of(const annex::Frame& f) {
   std::vector<float> xyz;
   for (const annex::PointXYZRGB& p : f.points) xyz.insert(xyz.end(), {p.x, p.y, p.z});
@@ -480,10 +490,8 @@ TEST(CApi, MatchesFigure3WithExplanations) {
 TEST(CApi, SessionAnnexesTracksAndReportsEvents) {
   const annex::SyntheticScene scene = make_scene(31, 3);
   Err err;
-  annex_spec* spec = nullptr;
-  ASSERT_EQ(annex_spec_load_text(spec_text_for(scene).c_str(), "synthetic.haptic", &spec, &err),
-            ANNEX_OK)
-      << err.message();
+  annex_spec* spec = spec_for(scene);
+  ASSERT_NE(spec, nullptr);
   annex_session_params params;
   annex_session_params_init(&params);
   EXPECT_EQ(params.background_scan, 1);
@@ -648,10 +656,8 @@ TEST(CApi, SessionParamsAreCheckedAtCreation) {
 TEST(CApi, SessionTakesItsScanFromAConfigFile) {
   const annex::SyntheticScene scene = make_scene(31, 3);
   Err err;
-  annex_spec* spec = nullptr;
-  ASSERT_EQ(annex_spec_load_text(spec_text_for(scene).c_str(), "synthetic.haptic", &spec, &err),
-            ANNEX_OK)
-      << err.message();
+  annex_spec* spec = spec_for(scene);
+  ASSERT_NE(spec, nullptr);
   annex_session_params params;
   annex_session_params_init(&params);
   params.background_scan = 0;  // the push scans and reports at once
