@@ -771,7 +771,7 @@ Candidate cone_from_parameters(const Candidate& span_ref, const std::array<doubl
 // count is estimated on an even sample of at most kTaperSample points against as many
 // (a few thousand distances, not the side's square).
 double taper_error(const Samples& s, const std::vector<int>& idx, double h0, double span,
-                   const ShapeRecognizerParams& params) {
+                   double focal_px) {
   constexpr size_t kTaperSample = 64;
   if (idx.size() < 3) return 0;
   const size_t stride = std::max<size_t>(1, idx.size() / kTaperSample);
@@ -784,7 +784,7 @@ double taper_error(const Samples& s, const std::vector<int>& idx, double h0, dou
     st += t;
     stt += t * t;
     if (i % stride != 0) continue;
-    const double r = shared_noise_radius_m(z, params.focal_px, params.depth_noise);
+    const double r = shared_noise_radius_m(z, focal_px, s.noise);
     size_t near = 0;
     for (size_t j = 0; j < idx.size(); j += stride) {  // i itself among them
       const Vec3 d = s.xyz[idx[j]] - p;
@@ -970,7 +970,7 @@ Candidate fit_cone(const Samples& s, const std::vector<int>& subset, const Candi
   refine_sampled<4>(x, static_cast<int>(idx.size()), tol, residual, params.refine_sample_points);
   double taper_se = -1;  // counted once, when first asked
   const auto error = [&] {
-    if (taper_se < 0) taper_se = taper_error(s, idx, span_ref.h0, span, params);
+    if (taper_se < 0) taper_se = taper_error(s, idx, span_ref.h0, span, params.focal_px);
     return taper_se;
   };
   c = cone_from_parameters(span_ref, x, params, error);
@@ -1661,12 +1661,12 @@ struct SelectionEntry {
 // default MLS radius and window, scanner.cpp smooth_cluster), so points that close share
 // their noise. Each point counts one over the number of points in its neighbourhood,
 // counted on every k-th point (k x that count) so that it costs at most 200 per point.
-double independent_points(const Samples& s, const ShapeRecognizerParams& params) {
+double independent_points(const Samples& s, double focal_px) {
   const size_t stride = std::max<size_t>(1, s.xyz.size() / 200);
   double n = 0;
   for (size_t i = 0; i < s.xyz.size(); ++i) {
     const double z = std::abs(s.xyz[i].z);
-    const double r = shared_noise_radius_m(z, params.focal_px, params.depth_noise);
+    const double r = shared_noise_radius_m(z, focal_px, s.noise);
     size_t near = 0;
     for (size_t j = i % stride; j < s.xyz.size(); j += stride) {
       const Vec3 d = s.xyz[j] - s.xyz[i];
@@ -2115,7 +2115,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
           index.push_back(static_cast<int>(i));
         }
       if (index.size() < 2) return;
-      if (independent.value < 0) independent.value = independent_points(s, params);
+      if (independent.value < 0) independent.value = independent_points(s, params.focal_px);
       best = index[static_cast<size_t>(margin_paid_choice(entries, independent.value, tol2,
                                                           1 - params.complexity_margin))];
       return;
@@ -2130,7 +2130,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
         saturated += cands[i].coverage >= 1 - params.complexity_margin;
       }
     if (saturated < 2) return;  // nothing to choose between
-    if (independent.value < 0) independent.value = independent_points(s, params);
+    if (independent.value < 0) independent.value = independent_points(s, params.focal_px);
     const int pick = saturated_choice(entries, independent.value, tol2, 1 - params.complexity_margin);
     if (pick >= 0) best = index[static_cast<size_t>(pick)];
   };

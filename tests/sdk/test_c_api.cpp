@@ -73,6 +73,12 @@ annex_spec* spec_for(const annex::SyntheticScene& scene) {
   return spec;
 }
 
+annex_session_params default_session_params() {
+  annex_session_params p;
+  annex_session_params_init(&p);
+  return p;
+}
+
 std::vector<float> xyz_of(const annex::Frame& f) {
   std::vector<float> xyz;
   for (const annex::PointXYZRGB& p : f.points) xyz.insert(xyz.end(), {p.x, p.y, p.z});
@@ -492,8 +498,7 @@ TEST(CApi, SessionAnnexesTracksAndReportsEvents) {
   Err err;
   annex_spec* spec = spec_for(scene);
   ASSERT_NE(spec, nullptr);
-  annex_session_params params;
-  annex_session_params_init(&params);
+  annex_session_params params = default_session_params();
   EXPECT_EQ(params.background_scan, 1);
   params.scan_every = 4;
   params.release_after_frames = 3;
@@ -658,8 +663,7 @@ TEST(CApi, SessionTakesItsScanFromAConfigFile) {
   Err err;
   annex_spec* spec = spec_for(scene);
   ASSERT_NE(spec, nullptr);
-  annex_session_params params;
-  annex_session_params_init(&params);
+  annex_session_params params = default_session_params();
   params.background_scan = 0;  // the push scans and reports at once
   const std::string dir = testing::TempDir();
   const auto write = [&](const std::string& name, const std::string& text) {
