@@ -10,7 +10,7 @@
 // Usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N]
 //        [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only]
 //        [--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N]
-//        [--render-scale S] [--sensor NAME]
+//        [--render-scale S] [--sensor NAME] [--stacked SHARE]
 //        (--repeat: our scans per frame, 30; --pcl-repeat: PCL's, interleaved with ours,
 //        default max(5, repeat / 3); --threads: our worker threads, 2; --speed-only: the
 //        speed section alone, e.g. under callgrind; --pool-per-scan: every scan starts its
@@ -24,7 +24,8 @@
 //        resolution sees them, every N-th pixel of every N-th row; --render-scale S: rendered
 //        by a camera of S times the Kinect's resolution and focal length, 0.25 to 3;
 //        --sensor NAME: rendered with another camera's depth noise, kinect, stereo or tof
-//        (depth_noise.h); the scan's own model is the config's depth_noise)
+//        (depth_noise.h); the scan's own model is the config's depth_noise; --stacked SHARE:
+//        that share of the boxes and cylinders carry an object on their top (stacked_share))
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -391,6 +392,11 @@ std::vector<std::string> room_features(const SyntheticScene& s, const SyntheticO
   if (o.touching >= 0) out.push_back("touching");
   if (o.overhang) out.push_back("overhang");
   if (o.albedo < 1) out.push_back("dark");
+  if (o.on_object >= 0) out.push_back("stacked");
+  const auto index = static_cast<int>(&o - s.objects.data());  // o is one of s.objects
+  if (std::any_of(s.objects.begin(), s.objects.end(),
+                  [&](const SyntheticObject& other) { return other.on_object == index; }))
+    out.push_back("under");
   return out;
 }
 
@@ -442,8 +448,8 @@ struct WorldCamera {
   SensorNoiseParams noise;  // the Kinect's by default; --sensor NAME another's depth noise
 };
 
-void world_set(int scenes, int first_seed, bool room, bool verbose, const std::string& png_dir,
-               const ScanParams& params, const WorldCamera& camera) {
+void world_set(int scenes, int first_seed, bool room, double stacked_share, bool verbose,
+               const std::string& png_dir, const ScanParams& params, const WorldCamera& camera) {
   const char* bands[] = {"< 1.5 m", "1.5-2.5 m", "> 2.5 m"};
   BandTally tally[3];
   std::map<std::string, std::map<std::string, int>> confusion;
@@ -456,12 +462,17 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
   std::map<std::string, std::array<BandTally, 3>> by_feature;
   std::map<std::string, std::map<std::string, int>> feature_confusion;
   int pairs = 0, pairs_split = 0;
+  // Stacked objects (--stacked) both of whose objects were found: how many, and how many
+  // of those the scan reports standing on the object under them (on=).
+  int stacks = 0, stacks_on_right = 0;
   std::vector<double> scan_ms;
   for (int k = 1; k <= scenes; ++k) {
     const int seed = first_seed + k - 1;
     const auto seed64 = static_cast<std::uint64_t>(seed);
-    Result<SyntheticScene> scene =
-        generate_scene(room ? room_scene_params(seed64) : world_scene_params(seed64));
+    SyntheticSceneParams scene_params =
+        room ? room_scene_params(seed64) : world_scene_params(seed64);
+    scene_params.stacked_share = stacked_share;
+    Result<SyntheticScene> scene = generate_scene(scene_params);
     if (scene) *scene = with_camera_scaled(std::move(*scene), camera.render_scale);
     if (!scene) {
       std::printf("  seed %d: %s\n", seed, scene.error().format().c_str());
@@ -541,6 +552,19 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
         std::printf("  seed %d truth %zu and %d touching: %s\n", seed, t, partner,
                     picks[t] < 0 && picks[static_cast<size_t>(partner)] < 0 ? "both missed"
                                                                             : "one missed or merged");
+    }
+    for (size_t t = 0; t < f.truth.objects.size(); ++t) {
+      const int under = scene->objects[t].on_object;
+      if (under < 0 || picks[t] < 0 || picks[static_cast<size_t>(under)] < 0) continue;
+      ++stacks;
+      const PhysicalObject& upper = scan->scene.objects[static_cast<size_t>(picks[t])];
+      const PhysicalObject& lower =
+          scan->scene.objects[static_cast<size_t>(picks[static_cast<size_t>(under)])];
+      if (upper.on_object == lower.id)
+        ++stacks_on_right;
+      else if (verbose)
+        std::printf("  seed %d %s (truth %zu) stands on %s (truth %d), reported on '%s'\n", seed,
+                    upper.id.c_str(), t, lower.id.c_str(), under, upper.on_object.c_str());
     }
     for (size_t t = 0; t < f.truth.objects.size(); ++t) {
       const PhysicalObject& truth = f.truth.objects[t];
@@ -723,6 +747,9 @@ void world_set(int scenes, int first_seed, bool room, bool verbose, const std::s
     }
     std::printf("    touching pairs (both whole): %d, both found as separate objects: %d\n", pairs,
                 pairs_split);
+    if (stacked_share > 0)
+      std::printf("    stacked objects found with the object under them: %d, reported on it: %d\n",
+                  stacks, stacks_on_right);
     std::printf("  room features' confusion (truth -> scanned):\n");
     for (const auto& [row, cols] : feature_confusion) {
       std::printf("    %-38s", row.c_str());
@@ -778,6 +805,7 @@ int main(int argc, char** argv) {
   WorldCamera camera;
   bool pcl = true, world_only = false, speed_only = false, verbose = false, room = false;
   bool pool_per_scan = false;
+  double stacked_share = 0;
   std::string png_dir;
   // The world set's scan parameters: the benchmarks' (objects only), or a scan config
   // file's over them (--scan-conf: an A/B run of one rule, e.g. touching_max_coverage 0).
@@ -789,6 +817,8 @@ int main(int argc, char** argv) {
     else if (a == "--world" && i + 1 < argc) world = std::max(0, std::atoi(argv[++i]));
     else if (a == "--world-seed" && i + 1 < argc) world_seed = std::atoi(argv[++i]);
     else if (a == "--rooms") room = true;
+    else if (a == "--stacked" && i + 1 < argc)
+      stacked_share = std::clamp(std::atof(argv[++i]), 0.0, 1.0);
     else if (a == "--pcl-repeat" && i + 1 < argc) pcl_repeat = std::max(1, std::atoi(argv[++i]));
     else if (a == "--threads" && i + 1 < argc) threads = std::max(1, std::atoi(argv[++i]));
     else if (a == "--speed-only") speed_only = true;
@@ -823,12 +853,12 @@ int main(int argc, char** argv) {
           "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] "
           "[--world N] [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] "
           "[--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N] "
-          "[--render-scale S] [--sensor NAME]\n");
+          "[--render-scale S] [--sensor NAME] [--stacked SHARE]\n");
       return 2;
     }
   }
   if (world_only) {
-    world_set(world, world_seed, room, verbose, png_dir, world_params, camera);
+    world_set(world, world_seed, room, stacked_share, verbose, png_dir, world_params, camera);
     return 0;
   }
   const std::filesystem::path real =
@@ -845,7 +875,8 @@ int main(int argc, char** argv) {
   else std::printf("speed: ../shared/data/real absent, real frame skipped\n");
   if (speed_only) return 0;
   speed(synthetic(7).frame, "generated scene seed 7", repeat, pcl_repeat, threads, pool_per_scan);
-  if (world > 0) world_set(world, world_seed, room, verbose, png_dir, world_params, camera);
+  if (world > 0)
+    world_set(world, world_seed, room, stacked_share, verbose, png_dir, world_params, camera);
   accuracy_and_ransac(scenes, std::min(scenes, 30));
   if (real_frame) real_clusters(*real_frame);
   return 0;

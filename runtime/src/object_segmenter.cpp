@@ -5,8 +5,11 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <iterator>
+#include <limits>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <type_traits>
 
 #include "annex/runtime/object_shape_recognizer.h"
@@ -66,11 +69,95 @@ int nearest_region(const std::vector<int>& grid_pixels, const std::vector<int>& 
   return best;
 }
 
+// The level cut (SegmenterParams::level_cut): grid neighbours within the grid columns
+// col_lo..col_hi, one below `height` over the support and one at or above it, are not
+// joined.
+struct LevelCut {
+  double height = 0;
+  int col_lo = 0, col_hi = -1;
+  bool spans(int column) const { return column >= col_lo && column <= col_hi; }
+  bool parts(double h_a, double h_b, int column) const {
+    return spans(column) && (h_a < height) != (h_b < height);
+  }
+  bool above(double h, int column) const { return spans(column) && !(h < height); }
+};
+
+// Each grid pixel's height over the support (NaN without depth).
+std::vector<double> heights_over(const Frame& f, const std::vector<int>& grid_pixels,
+                                 const Plane& support) {
+  std::vector<double> h(grid_pixels.size(), std::numeric_limits<double>::quiet_NaN());
+  for (size_t k = 0; k < grid_pixels.size(); ++k) {
+    const PointXYZRGB& p = f.points[static_cast<size_t>(grid_pixels[k])];
+    if (valid(p)) h[k] = dot(support.normal, Vec3{p.x, p.y, p.z}) + support.d;
+  }
+  return h;
+}
+
+// The crease pixels' heights gather in the window of heights that holds most of them:
+// one arm wide (a right-angle crease marks pixels up to about half an arm up its wall)
+// plus the test's noise either side. What stands on the crease rises level_min_height_m
+// or more above that window, in some grid columns; when the crease runs under
+// level_min_span of them, and the cluster reaches level_min_height_m or more below the
+// window, the cut runs one arm below the window's top (above the crease pixels' noise
+// over the lower object's top, below the upper object's wall), within the columns where
+// the crease runs under it and `margin` columns beyond either end (where the crease
+// fades at the upper object's silhouette). A crease pixel on a flat top (a noisy far
+// edge) has nothing standing over it.
+std::optional<LevelCut> level_crease_cut(const Frame& f, const std::vector<int>& grid_pixels,
+                                         const std::vector<double>& height,
+                                         const std::vector<char>& crease, int step, int margin,
+                                         const SegmenterParams& params) {
+  const int n = static_cast<int>(grid_pixels.size());
+  std::vector<double> crease_heights;
+  std::vector<float> depths;
+  for (int k = 0; k < n; ++k) {
+    if (!std::isfinite(height[static_cast<size_t>(k)])) continue;
+    depths.push_back(f.points[static_cast<size_t>(grid_pixels[k])].z);
+    if (crease[static_cast<size_t>(k)]) crease_heights.push_back(height[static_cast<size_t>(k)]);
+  }
+  if (crease_heights.size() < 4) return std::nullopt;
+  const auto middle = depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2);
+  std::nth_element(depths.begin(), middle, depths.end());
+  const double window =
+      params.arm_m + 2 * params.noise_factor * 0.41 * params.depth_noise.sigma_z(*middle);
+  std::sort(crease_heights.begin(), crease_heights.end());
+  size_t best = 0, best_count = 0;
+  for (size_t a = 0, b = 0; a < crease_heights.size(); ++a) {
+    while (b < crease_heights.size() && crease_heights[b] <= crease_heights[a] + window) ++b;
+    if (b - a > best_count) best_count = b - a, best = a;
+  }
+  const double lo = crease_heights[best], hi = lo + window;
+  std::vector<int> crease_columns, upper_columns;
+  double lowest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < n; ++k) {
+    const double h = height[static_cast<size_t>(k)];
+    if (!std::isfinite(h)) continue;
+    lowest = std::min(lowest, h);
+    const int column = (grid_pixels[k] % f.width) / step;
+    if (h > hi + params.level_min_height_m)
+      upper_columns.push_back(column);
+    else if (h >= lo && h <= hi && crease[static_cast<size_t>(k)])
+      crease_columns.push_back(column);
+  }
+  if (upper_columns.empty() || lo - lowest < params.level_min_height_m) return std::nullopt;
+  for (std::vector<int>* v : {&crease_columns, &upper_columns}) {
+    std::sort(v->begin(), v->end());
+    v->erase(std::unique(v->begin(), v->end()), v->end());
+  }
+  std::vector<int> under;  // the crease's columns under what rises above it
+  std::set_intersection(crease_columns.begin(), crease_columns.end(), upper_columns.begin(),
+                        upper_columns.end(), std::back_inserter(under));
+  if (static_cast<double>(under.size()) <
+      params.level_min_span * static_cast<double>(upper_columns.size()))
+    return std::nullopt;
+  return LevelCut{hi - params.arm_m, under.front() - margin, under.back() + margin};
+}
+
 }  // namespace
 
 std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<int>& grid_pixels,
                                             int step, double tolerance_m,
-                                            const SegmenterParams& params) {
+                                            const SegmenterParams& params, const Plane* support) {
   if (!params.enabled || grid_pixels.size() < 8 || !f.organized()) return {grid_pixels};
   step = std::max(1, step);
   LocalGrid g;
@@ -182,6 +269,19 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
     }
   }
 
+  // The level cut (level_crease_cut), its margin the arm at the cluster's nearest (the
+  // crease fades within about an arm of the silhouette).
+  std::vector<double> height;
+  std::optional<LevelCut> level;
+  if (support && params.level_cut) {
+    height = heights_over(f, grid_pixels, *support);
+    float nearest = std::numeric_limits<float>::infinity();
+    for (int i : grid_pixels) nearest = std::min(nearest, f.points[static_cast<size_t>(i)].z);
+    const int margin = 1 + static_cast<int>(std::ceil(
+                               std::max(params.min_arm_px, params.arm_m * fx / nearest) / step));
+    level = level_crease_cut(f, grid_pixels, height, crease, step, margin, params);
+  }
+
   // Grid neighbours within the 3D tolerance: the 8 neighbours, as the scanner's
   // clustering joins them (its +-1 grid window), found once and kept per pixel in a
   // fixed order (left, right, up, down, then the diagonals; -1 where none joins): the
@@ -206,6 +306,9 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
       const PointXYZRGB& o = f.points[grid_pixels[m]];
       const double dx = p.x - o.x, dy = p.y - o.y, dz = p.z - o.z;
       if (dx * dx + dy * dy + dz * dz > tol2) continue;
+      if (level &&
+          level->parts(height[static_cast<size_t>(k)], height[static_cast<size_t>(m)], gx + g.gx0))
+        continue;
       adjacent[static_cast<size_t>(k)][d] = m;
       adjacent[static_cast<size_t>(m)][kOpposite[d]] = k;
     }
@@ -271,6 +374,23 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
       std::max(static_cast<double>(params.min_object_points),
                params.min_object_share * n * step * step) /
       (step * step);
+  // A region standing on the level cut (most of its pixels above it, in its columns) is
+  // an object once it holds as many points as one standing alone would
+  // (level_min_part_points at 1 m, falling with the square of its depth): the cut
+  // found what it stands on.
+  std::vector<int> above(regions, 0);
+  std::vector<double> depth_sum(regions, 0);
+  if (level)
+    for (int k = 0; k < n; ++k) {
+      const int i = grid_pixels[k];
+      above[region[k]] += level->above(height[static_cast<size_t>(k)], (i % f.width) / step);
+      depth_sum[region[k]] += f.points[static_cast<size_t>(i)].z;
+    }
+  const auto stands_on_cut = [&](int root) {
+    if (2 * above[root] <= size[root]) return false;
+    const double z = depth_sum[root] / size[root];
+    return size[root] * step * step >= params.level_min_part_points / std::max(1.0, z * z);
+  };
   std::vector<int> parent(regions);
   std::iota(parent.begin(), parent.end(), 0);
   std::vector<int> order(regions);
@@ -278,7 +398,7 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
   std::sort(order.begin(), order.end(), [&](int a, int b) { return size[a] < size[b]; });
   for (int r : order) {
     const int root = find_root(parent, r);
-    if (size[root] >= min_grid) continue;
+    if (size[root] >= min_grid || stands_on_cut(root)) continue;
     std::map<int, int> touching;
     for (const auto& [pair, count] : border)
       if (find_root(parent, pair.first) == root) {
@@ -296,6 +416,8 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
     if (into < 0) continue;
     parent[root] = into;
     size[into] += size[root];
+    above[into] += above[root];
+    depth_sum[into] += depth_sum[root];
   }
   std::map<int, std::vector<int>> groups;
   for (int k = 0; k < n; ++k) groups[find_root(parent, region[k])].push_back(grid_pixels[k]);

@@ -2502,17 +2502,19 @@ constexpr double kFocalCalibrationSpread = 1.15;
 
 // The parameters with the frame's camera: the recognizer counts pixels with its focal
 // length (ShapeRecognizerParams::focal_px), the recognizer and the segmenter take the
-// scan's depth noise, and the pixel-unit parameters follow the focal length from the
-// nearer end of the calibrations' range.
+// scan's depth noise, the pixel-unit parameters follow the focal length from the
+// nearer end of the calibrations' range, and the segmenter's level cut keeps a part as
+// small as a cluster standing alone.
 ScanParams with_camera_of(const Frame& f, const ScanParams& given) {
   ScanParams p = given;
   p.shape.focal_px = focal_px(f);
   p.shape.depth_noise = p.segment.depth_noise = p.depth_noise;
-  if (!(p.pixel_units_focal_px > 0)) return p;
   const double k = p.shape.focal_px / p.pixel_units_focal_px;
-  if (!std::isfinite(k) || !(k > 0)) return p;
-  if (k > kFocalCalibrationSpread) scale_pixel_units(p, k / kFocalCalibrationSpread);
-  if (k < 1 / kFocalCalibrationSpread) scale_pixel_units(p, k * kFocalCalibrationSpread);
+  if (p.pixel_units_focal_px > 0 && std::isfinite(k) && k > 0) {
+    if (k > kFocalCalibrationSpread) scale_pixel_units(p, k / kFocalCalibrationSpread);
+    if (k < 1 / kFocalCalibrationSpread) scale_pixel_units(p, k * kFocalCalibrationSpread);
+  }
+  p.segment.level_min_part_points = p.min_cluster_points;
   return p;
 }
 
@@ -3257,8 +3259,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     double z_far = 0;
     for (int i : grid) z_far = std::max(z_far, static_cast<double>(f.points[i].z));
     const PlaneFit& plane = found[static_cast<size_t>(a.support)].plane;
-    for (const std::vector<int>& part :
-         split_cluster(f, grid, stride, cluster_tolerance(params, z_far), params.segment)) {
+    const Plane support{plane.n, plane.d};
+    for (const std::vector<int>& part : split_cluster(
+             f, grid, stride, cluster_tolerance(params, z_far), params.segment, &support)) {
       std::vector<int> full = expand_cluster(f, part, stride, plane, band_scale[a.support], params);
       // A part short of the size floor may be a dark surface whose grid pixels lost
       // their depth: the returned pixels in their blocks are its too (dropout_join.h).

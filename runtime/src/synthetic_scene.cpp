@@ -248,6 +248,7 @@ void add_floor_objects(const SyntheticSceneParams& params, SyntheticScene& s, st
                        std::vector<PixelRect>& rects);
 void add_shelf_objects(const SyntheticSceneParams& params, SyntheticScene& s, std::vector<PixelRect>& rects);
 void add_room_extras(const SyntheticSceneParams& params, SyntheticScene& s);
+void add_stacked_objects(const SyntheticSceneParams& params, SyntheticScene& s);
 std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std::mt19937_64& rng,
                                          int& placed_count);
 }  // namespace
@@ -272,10 +273,10 @@ Result<SyntheticScene> generate_scene(const SyntheticSceneParams& params) {
       !share(params.shelf_chance) || !share(params.touching_share) ||
       !share(params.overhang_share) || !share(params.dark_share) ||
       !share(params.back_chair_chance) || !share(params.cabinet_chance) ||
-      !share(params.pole_chance))
+      !share(params.pole_chance) || !share(params.stacked_share))
     return Error{
         "floor and shelf objects must not be negative; chair, shelf, back chair, cabinet and "
-        "pole chances, touching, overhang and dark shares within [0, 1]",
+        "pole chances, touching, overhang, dark and stacked shares within [0, 1]",
         {}};
 
   // Whole layouts are redrawn (camera included) when the objects do not fit; the
@@ -653,6 +654,92 @@ void add_pole(SyntheticScene& s, std::mt19937_64& rng) {
 // The room's extra elements (back_chair_chance, cabinet_chance, pole_chance), drawn last
 // from a stream of their own so the scene's other draws stay; appended to the furniture
 // after every other block (the objects' support indices stay).
+// Half the width of the level top `o` offers another object: a box's shorter side, a
+// cylinder's radius; 0 for shapes with no flat top.
+double top_half_width(const SyntheticObject& o) {
+  if (o.kind == ShapeKind::box) return 0.5 * std::min(o.dimensions_m[0], o.dimensions_m[1]);
+  if (o.kind == ShapeKind::cylinder) return o.dimensions_m[0];
+  return 0;
+}
+
+// An object standing on `lower`'s top: a box, cylinder or cone drawn as any other until
+// its footprint fits on the top less kRim_m (a mug on a book, a small tin on a large
+// one), else made narrower to a random share of the top (a tin on a tin of its size),
+// its centre anywhere its footprint stays on the top. Empty when it would be smaller
+// than the scan's 5 cm objects.
+std::optional<SyntheticObject> object_on_top(const SyntheticSceneParams& params,
+                                             const SyntheticObject& lower, std::mt19937_64& rng) {
+  constexpr double kRim_m = 0.005, kSmallest_m = 0.05;
+  constexpr int kDraws = 8;
+  static constexpr std::array kinds{ShapeKind::box, ShapeKind::cylinder, ShapeKind::cone};
+  const double room = top_half_width(lower) - kRim_m;
+  SyntheticObject obj;
+  for (int draw = 0; draw < kDraws; ++draw) {
+    obj.kind = kinds[static_cast<std::size_t>(uniform_int(rng, 0, 2))];
+    obj.dimensions_m = random_dimensions(obj.kind, rng);
+    obj.narrow_radius_m = 0;
+    obj.apex_down = false;
+    if (params.varied_cones && obj.kind == ShapeKind::cone) vary_cone(obj, rng);
+    if (footprint_radius(obj) <= room) break;
+  }
+  obj.yaw_deg =
+      lower.kind == ShapeKind::box ? lower.yaw_deg + uniform(rng, -25, 25) : uniform(rng, 0, 360);
+  obj.color = kPalette[static_cast<std::size_t>(
+      uniform_int(rng, 0, static_cast<int>(kPalette.size()) - 1))];
+  const double f = footprint_radius(obj);
+  if (f > room) {
+    const double k =
+        room * uniform(rng, 0.5, 1.0) / f;  // the horizontal sizes scaled; the height kept
+    obj.dimensions_m[0] *= k;
+    if (obj.kind == ShapeKind::box) obj.dimensions_m[1] *= k;
+    if (obj.kind == ShapeKind::cone) obj.narrow_radius_m *= k;
+  }
+  const double largest = obj.kind == ShapeKind::box
+                             ? *std::max_element(obj.dimensions_m.begin(), obj.dimensions_m.end())
+                             : std::max(2 * obj.dimensions_m[0], obj.dimensions_m[1]);
+  if (largest < kSmallest_m) return std::nullopt;
+  const double slack = std::max(0.0, room - footprint_radius(obj));
+  const double a = uniform(rng, 0, 2 * std::numbers::pi), r = slack * std::sqrt(uniform(rng, 0, 1));
+  const double top = lower.center.z + half_height(lower);
+  obj.center = {lower.center.x + r * std::cos(a), lower.center.y + r * std::sin(a),
+                top + center_height(obj)};
+  obj.support = lower.support;
+  obj.velocity_m_per_frame = lower.velocity_m_per_frame;  // carried along with it
+  obj.albedo = uniform(rng, 0, 1) < params.dark_share ? uniform(rng, 0.15, 0.35) : 1.0;
+  if (obj.albedo < 1) {
+    const auto grey = static_cast<std::uint8_t>(60 * obj.albedo + 15);
+    obj.color = {grey, grey, static_cast<std::uint8_t>(grey + 5)};
+  }
+  return obj;
+}
+
+// stacked_share of the boxes and cylinders whole in view (not on a shelf board, whose
+// clearance is tight) carry an object on their top, when it too is whole in view and
+// overlaps no third object's image box beyond max_view_overlap. Drawn from its own
+// stream and added last, so the scene is otherwise the one without stacks.
+void add_stacked_objects(const SyntheticSceneParams& params, SyntheticScene& s) {
+  if (params.stacked_share <= 0) return;
+  std::mt19937_64 rng(mix_seed(params.seed, 0x57ac));
+  const std::size_t before = s.objects.size();
+  for (std::size_t k = 0; k < before; ++k) {
+    const SyntheticObject& lower = s.objects[k];
+    const bool on_board =
+        lower.support > 0 && s.furniture[static_cast<std::size_t>(lower.support - 1)].role ==
+                                 SyntheticBlock::Role::shelf;
+    if (uniform(rng, 0, 1) >= params.stacked_share || lower.cut || on_board ||
+        top_half_width(lower) <= 0)
+      continue;
+    std::optional<SyntheticObject> obj = object_on_top(params, lower, rng);
+    if (!obj) continue;
+    std::vector<PixelRect> others;
+    for (std::size_t j = 0; j < s.objects.size(); ++j)
+      if (j != k) others.push_back(object_rect(s, s.objects[j]));
+    if (!whole_in_view(s, object_rect(s, *obj), others, params.max_view_overlap)) continue;
+    obj->on_object = static_cast<int>(k);
+    s.objects.push_back(std::move(*obj));
+  }
+}
+
 void add_room_extras(const SyntheticSceneParams& params, SyntheticScene& s) {
   std::mt19937_64 rng(mix_seed(params.seed, 0xe7a5));
   const bool chair = uniform(rng, 0, 1) < params.back_chair_chance;
@@ -830,6 +917,7 @@ std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std
         o.color = {grey, grey, static_cast<std::uint8_t>(grey + 5)};
       }
   add_room_extras(params, s);
+  add_stacked_objects(params, s);
 
   if (params.occluder) {
     // Crosses the line of sight to the aim point, a bit under half-way from the camera.
@@ -1035,6 +1123,10 @@ PhysicalScene ground_truth(const SyntheticScene& scene, const Frame* frame,
     obj.partial = labelled ? at_edge[i] != 0 : o.cut;
     obj.id = "o";  // not "o" + ...: GCC 12 warns falsely (-Wrestrict, bug 105329)
     obj.id += std::to_string(i + 1);
+    if (o.on_object >= 0) {
+      obj.on_object = "o";
+      obj.on_object += std::to_string(o.on_object + 1);
+    }
     obj.primitives.push_back(prim);
     obj.point_count = counts[i];
     obj.fit = 1.0;

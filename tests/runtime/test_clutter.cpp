@@ -347,6 +347,50 @@ TEST(ClutterStacking, ObjectOnABoxTopSupportStandsOnTheBox) {
   EXPECT_NEAR(top->primitives[0].dimensions_m[1], can_h, 0.015);
 }
 
+// A tin standing on a tin nearly its width, seen from 1 m and 25 degrees above: the
+// crease between the lower lid's rim and the upper tin's side fades where the two
+// silhouettes meet, and without the level cut the two are one tall cylinder.
+TEST(ClutterStacking, TinOnATinOfItsWidthIsCutAtTheLevelCrease) {
+  SyntheticSceneParams sp;
+  sp.seed = 3;
+  sp.object_count = 1;
+  sp.camera_distance_min_m = sp.camera_distance_max_m = 1.0;
+  sp.camera_tilt_min_deg = sp.camera_tilt_max_deg = 25;
+  Result<SyntheticScene> scene = generate_scene(sp);
+  ASSERT_TRUE(scene.ok()) << scene.error().format();
+  scene->objects.clear();
+  scene->occluder.reset();
+  scene->furniture.clear();
+  const double lower_r = 0.05, lower_h = 0.1, upper_r = 0.042, upper_h = 0.12;
+  scene->objects.push_back(resting_object(ShapeKind::cylinder, {lower_r, lower_h}, 0, 0.05));
+  SyntheticObject upper = resting_object(ShapeKind::cylinder, {upper_r, upper_h}, 0.003, 0.05);
+  upper.center.z += lower_h;
+  upper.on_object = 0;
+  scene->objects.push_back(upper);
+  const Frame frame = render_scene(*scene).frame;
+  Result<ScanResult> scan = scan_frame(frame);
+  ASSERT_TRUE(scan.ok()) << scan.error().format();
+  ASSERT_EQ(scan->scene.objects.size(), 2u);
+  const PhysicalObject* lower = nullptr;
+  const PhysicalObject* top = nullptr;
+  for (const PhysicalObject& o : scan->scene.objects) {
+    ASSERT_FALSE(o.primitives.empty()) << o.id;
+    EXPECT_EQ(o.primitives[0].kind, ShapeKind::cylinder) << o.id;
+    (o.on_object.empty() ? lower : top) = &o;
+  }
+  ASSERT_TRUE(lower && top);
+  EXPECT_EQ(top->on_object, lower->id);
+  EXPECT_NEAR(lower->primitives[0].dimensions_m[0], lower_r, 0.005);
+  EXPECT_NEAR(lower->primitives[0].dimensions_m[1], lower_h, 0.015);
+  EXPECT_NEAR(top->primitives[0].dimensions_m[0], upper_r, 0.005);
+  EXPECT_NEAR(top->primitives[0].dimensions_m[1], upper_h, 0.015);
+  ScanParams without;
+  without.segment.level_cut = false;
+  Result<ScanResult> merged = scan_frame(frame, without);
+  ASSERT_TRUE(merged.ok()) << merged.error().format();
+  EXPECT_EQ(merged->scene.objects.size(), 1u);
+}
+
 // OSD learning scenes: the scan with default parameters against the labels.
 std::optional<OsdSceneScore> score_scene(const std::string& name) {
   const std::filesystem::path dir = std::filesystem::path(ANNEX_SHARED_DIR) / "data/osd-learn";

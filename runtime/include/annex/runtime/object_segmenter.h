@@ -11,6 +11,10 @@
 //                a convex surface and positive in a valley or behind a depth step.
 //                Above max(min_crease_depth_m, noise_factor * its depth noise) p is
 //                a crease pixel;
+//   level cut    where the crease pixels gather at one height over the support under
+//                what rises above them (one object's top under another standing on
+//                it), no region grows across that height there, though the crease
+//                fades at the silhouette;
 //   regions      grow over non-crease pixels; crease pixels then join the nearest
 //                region; regions too small to be an object join the neighbour they
 //                share most border with (a mug's handle, a pot's handles).
@@ -49,13 +53,29 @@ struct SegmenterParams {
   // cluster) is a part, not an object: it joins its biggest neighbour.
   int min_object_points = 600;
   double min_object_share = 0.08;
+  // Level cut (an object standing on another: a tin on a tin, a box on a box). Where
+  // the crease pixels gather at one height over the support and run across at least
+  // level_min_span of the cluster's width there, the cluster is cut at that height:
+  // the crease between a lower object's top and the upper one's side is level, and
+  // where it fades at the silhouette (the upper object's side meets the lower's edge
+  // with no valley between) the regions would join around its ends. Both parts must be
+  // level_min_height_m tall or more (a laptop's 2 cm base stays one with its screen).
+  bool level_cut = true;
+  double level_min_span = 0.75;
+  double level_min_height_m = 0.03;
+  // A part standing on the level cut is an object with as few full-resolution points
+  // at 1 m as one standing alone (fewer farther, with the square of depth); not a key:
+  // the scanner sets it from ScanParams::min_cluster_points.
+  int level_min_part_points = 300;
 };
 
 // One cluster on the strided grid (pixel indices into frame.points, every `step`-th
 // row and column) split into its objects; returns the cluster itself when it holds
 // one. `tolerance_m`: grid neighbours farther apart than this in 3D never join.
+// `support`: the plane the cluster stands on, for the level cut (none without it).
 std::vector<std::vector<int>> split_cluster(const Frame& frame, const std::vector<int>& grid_pixels,
                                             int step, double tolerance_m,
-                                            const SegmenterParams& params = {});
+                                            const SegmenterParams& params = {},
+                                            const Plane* support = nullptr);
 
 }  // namespace annex

@@ -103,6 +103,10 @@ struct SyntheticSceneParams {
   // depth where the infrared return, albedo * cos(incidence) / z^2, is weak (grazing
   // flanks, far away): missing pixels, not noise.
   double dark_share = 0;
+  // Share of the boxes and cylinders (table, second support, floor) that carry another
+  // object on their top: a mug on a book, a tin on a tin, a box on a box. The upper
+  // object is a box, cylinder or cone narrower than the top it stands on.
+  double stacked_share = 0;
   // A box (an arm, say) crossing the view between camera and table, for tracking tests.
   bool occluder = false;
   double occluder_speed_m_per_frame = 0.012;
@@ -121,6 +125,7 @@ struct SyntheticObject {
                          // or a shelf board), -1 the floor
   bool cut = false;      // placed across the image border
   int touching = -1;     // index of the object it was placed touching, -1 none
+  int on_object = -1;    // index of the object whose top it stands on, -1 none
   bool overhang = false; // placed across a table edge
   double albedo = 1;     // below 1: dark, its depth drops out where the return is weak
   Vec3 center;
