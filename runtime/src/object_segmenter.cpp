@@ -69,6 +69,9 @@ int nearest_region(const std::vector<int>& grid_pixels, const std::vector<int>& 
   return best;
 }
 
+// Fewer crease pixels than this draw no line to cut along (most far clusters have none).
+constexpr std::ptrdiff_t kLevelMinCreasePixels = 4;
+
 // The level cut (SegmenterParams::level_cut): grid neighbours within the grid columns
 // col_lo..col_hi, one below `height` over the support and one at or above it, are not
 // joined.
@@ -115,7 +118,6 @@ std::optional<LevelCut> level_crease_cut(const Frame& f, const std::vector<int>&
     depths.push_back(f.points[static_cast<size_t>(grid_pixels[k])].z);
     if (crease[static_cast<size_t>(k)]) crease_heights.push_back(height[static_cast<size_t>(k)]);
   }
-  if (crease_heights.size() < 4) return std::nullopt;
   const auto middle = depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2);
   std::nth_element(depths.begin(), middle, depths.end());
   const double window =
@@ -273,7 +275,8 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
   // crease fades within about an arm of the silhouette).
   std::vector<double> height;
   std::optional<LevelCut> level;
-  if (support && params.level_cut) {
+  if (support && params.level_cut &&
+      std::count(crease.begin(), crease.end(), 1) >= kLevelMinCreasePixels) {
     height = heights_over(f, grid_pixels, *support);
     float nearest = std::numeric_limits<float>::infinity();
     for (int i : grid_pixels) nearest = std::min(nearest, f.points[static_cast<size_t>(i)].z);
