@@ -10,7 +10,7 @@
 // Usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] [--world N]
 //        [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only]
 //        [--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N]
-//        [--render-scale S] [--sensor NAME] [--stacked SHARE]
+//        [--render-scale S] [--sensor NAME] [--flying SHARE] [--stacked SHARE]
 //        (--repeat: our scans per frame, 30; --pcl-repeat: PCL's, interleaved with ours,
 //        default max(5, repeat / 3); --threads: our worker threads, 2; --speed-only: the
 //        speed section alone, e.g. under callgrind; --pool-per-scan: every scan starts its
@@ -24,7 +24,10 @@
 //        resolution sees them, every N-th pixel of every N-th row; --render-scale S: rendered
 //        by a camera of S times the Kinect's resolution and focal length, 0.25 to 3;
 //        --sensor NAME: rendered with another camera's depth noise, kinect, stereo or tof
-//        (depth_noise.h); the scan's own model is the config's depth_noise; --stacked SHARE:
+//        (depth_noise.h); the scan's own model is the config's depth_noise; --flying SHARE:
+//        that share of the edge pixels kept return a depth between their two surfaces
+//        (SensorNoiseParams::flying_share: a time-of-flight or stereo camera's mixed
+//        pixels); --stacked SHARE:
 //        that share of the boxes and cylinders carry an object on their top (stacked_share))
 #include <algorithm>
 #include <array>
@@ -819,6 +822,8 @@ int main(int argc, char** argv) {
     else if (a == "--rooms") room = true;
     else if (a == "--stacked" && i + 1 < argc)
       stacked_share = std::clamp(std::atof(argv[++i]), 0.0, 1.0);
+    else if (a == "--flying" && i + 1 < argc)
+      camera.noise.flying_share = std::clamp(std::atof(argv[++i]), 0.0, 1.0);
     else if (a == "--pcl-repeat" && i + 1 < argc) pcl_repeat = std::max(1, std::atoi(argv[++i]));
     else if (a == "--threads" && i + 1 < argc) threads = std::max(1, std::atoi(argv[++i]));
     else if (a == "--speed-only") speed_only = true;
@@ -853,7 +858,7 @@ int main(int argc, char** argv) {
           "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] "
           "[--world N] [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] "
           "[--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N] "
-          "[--render-scale S] [--sensor NAME] [--stacked SHARE]\n");
+          "[--render-scale S] [--sensor NAME] [--flying SHARE] [--stacked SHARE]\n");
       return 2;
     }
   }

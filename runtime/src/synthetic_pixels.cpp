@@ -51,14 +51,22 @@ void sense_pixels(const std::vector<PixelHit>& hits, const CameraIntrinsics& cam
         if (px.surface.cos_incidence < noise.grazing_cos)
           keep *= px.surface.cos_incidence / noise.grazing_cos;
         bool edge = false;
-        for (const auto& [du, dv] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}})
-          if (std::abs(depth_at(u + du, v + dv) - z) > noise.edge_jump_m) edge = true;
+        double other = z;  // the neighbour's depth farthest from z (finite), for a mix
+        for (const auto& [du, dv] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+          const double n = depth_at(u + du, v + dv);
+          if (std::abs(n - z) <= noise.edge_jump_m) continue;
+          edge = true;
+          if (std::isfinite(n) && std::abs(n - z) > std::abs(other - z)) other = n;
+        }
         if (edge) keep *= 1 - noise.edge_dropout;
         if (return_keep) keep *= return_keep(px.surface);
         const double draw = draws.unit(draws.rng);
         const double e = draws.gauss(draws.rng);
         if (draw >= keep) continue;
-        depth = z + noise.axial.sigma_z(z) * e;
+        // A flying pixel draws twice more (only then: the stream is as before without).
+        if (edge && noise.flying_share > 0 && draws.unit(draws.rng) < noise.flying_share)
+          depth = z + draws.unit(draws.rng) * (other - z);
+        depth += noise.axial.sigma_z(depth) * e;
       }
       p.x = static_cast<float>(px.ray_x * depth);
       p.y = static_cast<float>(px.ray_y * depth);

@@ -198,6 +198,51 @@ TEST(SyntheticScene, AxialNoiseFollowsTheKinectModel) {
   EXPECT_NEAR(std::sqrt(sum2_normalized / n), 1.0, 0.02);
 }
 
+// Flying pixels (SensorNoiseParams::flying_share): with every edge pixel kept and mixed,
+// the depths that differ from the exact render are edge pixels' only, each between its
+// own surface's depth and a neighbour's across the edge, on its own ray; none without.
+TEST(SyntheticScene, FlyingPixelsLieBetweenAnEdgeAndWhatLiesBehindIt) {
+  SyntheticSceneParams p;
+  p.seed = 11;
+  p.camera_distance_min_m = p.camera_distance_max_m = 1.0;
+  const Result<SyntheticScene> s = generate_scene(p);
+  ASSERT_TRUE(s.ok());
+  SensorNoiseParams flying;
+  flying.lateral_sigma_px = 0;
+  flying.dropout = 0;
+  flying.edge_dropout = 0;
+  flying.grazing_cos = 0;
+  flying.axial = DepthNoise{1e-7, 0, 0};  // no noise to speak of
+  flying.flying_share = 1;
+  const SyntheticFrame mixed = render_scene(*s, flying);
+  flying.flying_share = 0;
+  const SyntheticFrame plain = render_scene(*s, flying);
+  const SyntheticFrame clean = render_scene(*s, exact());
+  const int w = clean.frame.width, h = clean.frame.height;
+  int moved = 0;
+  for (int v = 1; v + 1 < h; ++v)
+    for (int u = 1; u + 1 < w; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * w + u;
+      const double z = clean.frame.points[i].z;
+      if (!std::isfinite(z)) continue;
+      EXPECT_NEAR(plain.frame.points[i].z, z, 1e-5);
+      const double got = mixed.frame.points[i].z;
+      if (std::abs(got - z) < 1e-5) continue;
+      ++moved;
+      double lo = z, hi = z;
+      for (const std::size_t j : {i - 1, i + 1, i - w, i + w}) {
+        const double n = clean.frame.points[j].z;
+        if (std::isfinite(n) && std::abs(n - z) > flying.edge_jump_m)
+          lo = std::min(lo, n), hi = std::max(hi, n);
+      }
+      ASSERT_LT(lo, hi) << "a mixed depth at a pixel with no edge: " << u << "," << v;
+      EXPECT_GE(got, lo - 1e-5);
+      EXPECT_LE(got, hi + 1e-5);
+      EXPECT_NEAR(mixed.frame.points[i].x / got, clean.frame.points[i].x / z, 1e-5);
+    }
+  EXPECT_GT(moved, 500);
+}
+
 TEST(SyntheticScene, DropoutAndLateralJitterStayModest) {
   const SyntheticScene s = make_scene(5, 5);
   const SyntheticFrame noisy = render_scene(s);

@@ -189,6 +189,12 @@ struct SensorNoiseParams {
   double grazing_cos = 0.25;  // below this |cos(incidence)| dropout rises linearly to 1
   double edge_dropout = 0.5;  // at depth discontinuities
   double edge_jump_m = 0.03;
+  // Share of the edge pixels kept that return a mixed depth ("flying pixels"): the
+  // pixel's footprint holds both surfaces and a time-of-flight camera measures a phase
+  // between their returns, a stereo matcher a disparity between theirs. The depth is a
+  // uniform mix of the pixel's own and its most distant neighbour's, along its ray.
+  // 0 (the Kinect's structured light mostly drops such pixels: edge_dropout).
+  double flying_share = 0;
   double min_range_m = 0.4;  // the Kinect returns nothing nearer or farther
   double max_range_m = 4.0;
   DepthNoise axial;  // each depth's noise; the Kinect's by default (depth_noise.h)
