@@ -100,7 +100,8 @@ std::vector<double> heights_over(const Frame& f, const std::vector<int>& grid_pi
 // one arm wide (a right-angle crease marks pixels up to about half an arm up its wall)
 // plus the test's noise either side. What stands on the crease rises level_min_height_m
 // or more above that window, in some grid columns; when the crease runs under
-// level_min_span of them, and the cluster reaches level_min_height_m or more below the
+// level_min_span of them (less an arm, margin - 1 columns, at either end), and the
+// cluster reaches level_min_height_m or more below the
 // window, the cut runs one arm below the window's top (above the crease pixels' noise
 // over the lower object's top, below the upper object's wall), within the columns where
 // the crease runs under it and `margin` columns beyond either end (where the crease
@@ -149,9 +150,11 @@ std::optional<LevelCut> level_crease_cut(const Frame& f, const std::vector<int>&
   std::vector<int> under;  // the crease's columns under what rises above it
   std::set_intersection(crease_columns.begin(), crease_columns.end(), upper_columns.begin(),
                         upper_columns.end(), std::back_inserter(under));
-  if (static_cast<double>(under.size()) <
-      params.level_min_span * static_cast<double>(upper_columns.size()))
-    return std::nullopt;
+  // Within an arm of the silhouette's ends the crease test's arms along the row leave the
+  // cluster: the crease fades there whatever stands on it.
+  const double testable =
+      std::max(1.0, static_cast<double>(upper_columns.size()) - 2.0 * (margin - 1));
+  if (static_cast<double>(under.size()) < params.level_min_span * testable) return std::nullopt;
   return LevelCut{hi - params.arm_m, under.front() - margin, under.back() + margin};
 }
 
