@@ -27,8 +27,8 @@
 //        (depth_noise.h); the scan's own model is the config's depth_noise; --flying SHARE:
 //        that share of the edge pixels kept return a depth between their two surfaces
 //        (SensorNoiseParams::flying_share: a time-of-flight or stereo camera's mixed
-//        pixels); --stacked SHARE:
-//        that share of the boxes and cylinders carry an object on their top (stacked_share))
+//        pixels); --stacked SHARE: that share of the boxes and cylinders carry an object on
+//        their top (stacked_share))
 #include <algorithm>
 #include <array>
 #include <chrono>

@@ -1,6 +1,7 @@
 // annex-runtime synth: writes synthetic tabletop frames (organized PCD) with their
 // ground truth (.scene), for the scanner's accuracy tests, benchmarks and demos.
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -41,11 +42,23 @@ bool write_frame(const std::filesystem::path& dir, int number, const SyntheticFr
   return true;
 }
 
+// A share from 0 to 1 (--stacked, --flying); empty, after the error, otherwise.
+std::optional<double> parse_share(const std::string& option, const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !(v >= 0 && v <= 1)) {
+    std::cerr << "annex-runtime synth: error: --" << option << " expects a share from 0 to 1, got '"
+              << text << "'\n";
+    return std::nullopt;
+  }
+  return v;
+}
+
 int run_synth(const std::vector<std::string>& args) {
-  const auto parsed =
-      parse_args("synth", args,
-                 {{"occluder", "no-noise"},
-                  {"seed", "objects", "out", "frames", "scenes", "kinds", "depth-noise"}});
+  const auto parsed = parse_args("synth", args,
+                                 {{"occluder", "no-noise"},
+                                  {"seed", "objects", "out", "frames", "scenes", "kinds",
+                                   "depth-noise", "stacked", "flying"}});
   if (!parsed) return kExitBadInput;
   if (!parsed->positional.empty()) {
     std::cerr << "annex-runtime synth: error: unexpected argument '" << parsed->positional[0]
@@ -118,6 +131,14 @@ int run_synth(const std::vector<std::string>& args) {
     }
     noise.axial = *axial;
   }
+  for (auto [name, target] :
+       {std::pair{"stacked", &params.stacked_share}, std::pair{"flying", &noise.flying_share}}) {
+    if (auto v = parsed->get(name)) {
+      const std::optional<double> share = parse_share(name, *v);
+      if (!share) return kExitBadInput;
+      *target = *share;
+    }
+  }
 
   const std::filesystem::path dir(*out);
   std::error_code ec;
@@ -151,7 +172,7 @@ const Command kSynthCommand{
     "synth", "write synthetic tabletop frames with ground truth",
     "usage: annex-runtime synth --out DIR [--seed N] [--objects K] [--frames F | --scenes C]\n"
     "                           [--kinds sphere,cylinder,...] [--occluder] [--no-noise]\n"
-    "                           [--depth-noise NAME]\n"
+    "                           [--depth-noise NAME] [--stacked SHARE] [--flying SHARE]\n"
     "\n"
     "Renders tabletop scenes as a Kinect would see them (640x480, fx = fy = 525, axial\n"
     "noise 0.0012 + 0.0019 (z - 0.4)^2 m, lateral jitter, dropout) and writes\n"
@@ -170,6 +191,12 @@ const Command kSynthCommand{
     "  --depth-noise NAME  another camera's axial noise: stereo (a RealSense D400,\n"
     "                 0.0037 z^2 m) or tof (a Kinect v2, an Azure Kinect); kinect, the\n"
     "                 default (scan these with 'scan --depth-noise NAME')\n"
+    "  --stacked SHARE  that share (0 to 1) of the boxes and cylinders carry a box,\n"
+    "                 cylinder or cone on their top; the .scene names what each stands on\n"
+    "                 ('on_object')\n"
+    "  --flying SHARE   that share of the pixels kept at depth edges return a depth\n"
+    "                 between their two surfaces (a time-of-flight or stereo camera's\n"
+    "                 flying pixels; the Kinect, the default, drops most of them: 0)\n"
     "\n"
     "Exit 0 on success, 1 when a scene cannot be laid out or a file cannot be written,\n"
     "2 on bad arguments.\n",

@@ -651,9 +651,13 @@ void add_pole(SyntheticScene& s, std::mt19937_64& rng) {
   if (c) s.furniture.push_back({*c, {side, side, height}, SyntheticBlock::Role::pole});
 }
 
-// The room's extra elements (back_chair_chance, cabinet_chance, pole_chance), drawn last
-// from a stream of their own so the scene's other draws stay; appended to the furniture
-// after every other block (the objects' support indices stay).
+// A dark object (dark_share): its albedo, and a grey to match.
+void darken(SyntheticObject& o, double albedo) {
+  o.albedo = albedo;
+  const auto grey = static_cast<std::uint8_t>(60 * albedo + 15);
+  o.color = {grey, grey, static_cast<std::uint8_t>(grey + 5)};
+}
+
 // Half the width of the level top `o` offers another object: a box's shorter side, a
 // cylinder's radius; 0 for shapes with no flat top.
 double top_half_width(const SyntheticObject& o) {
@@ -705,11 +709,8 @@ std::optional<SyntheticObject> object_on_top(const SyntheticSceneParams& params,
                 top + center_height(obj)};
   obj.support = lower.support;
   obj.velocity_m_per_frame = lower.velocity_m_per_frame;  // carried along with it
-  obj.albedo = uniform(rng, 0, 1) < params.dark_share ? uniform(rng, 0.15, 0.35) : 1.0;
-  if (obj.albedo < 1) {
-    const auto grey = static_cast<std::uint8_t>(60 * obj.albedo + 15);
-    obj.color = {grey, grey, static_cast<std::uint8_t>(grey + 5)};
-  }
+  obj.spin_deg_per_frame = lower.spin_deg_per_frame;
+  if (uniform(rng, 0, 1) < params.dark_share) darken(obj, uniform(rng, 0.15, 0.35));
   return obj;
 }
 
@@ -740,6 +741,9 @@ void add_stacked_objects(const SyntheticSceneParams& params, SyntheticScene& s) 
   }
 }
 
+// The room's extra elements (back_chair_chance, cabinet_chance, pole_chance), drawn last
+// from a stream of their own so the scene's other draws stay; appended to the furniture
+// after every other block (the objects' support indices stay).
 void add_room_extras(const SyntheticSceneParams& params, SyntheticScene& s) {
   std::mt19937_64 rng(mix_seed(params.seed, 0xe7a5));
   const bool chair = uniform(rng, 0, 1) < params.back_chair_chance;
@@ -911,11 +915,7 @@ std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std
   // Dark objects last, so the layout is the same with or without them.
   if (params.dark_share > 0)
     for (SyntheticObject& o : s.objects)
-      if (uniform(rng, 0, 1) < params.dark_share) {
-        o.albedo = uniform(rng, 0.15, 0.35);
-        const auto grey = static_cast<std::uint8_t>(60 * o.albedo + 15);
-        o.color = {grey, grey, static_cast<std::uint8_t>(grey + 5)};
-      }
+      if (uniform(rng, 0, 1) < params.dark_share) darken(o, uniform(rng, 0.15, 0.35));
   add_room_extras(params, s);
   add_stacked_objects(params, s);
 

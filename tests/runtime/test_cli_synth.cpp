@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -92,6 +93,32 @@ TEST(CliSynth, DepthNoiseRendersAnotherCamerasNoise) {
       << bad.output;
   fs::remove_all(kinect);
   fs::remove_all(stereo);
+}
+
+// --stacked puts objects on boxes' and cylinders' tops, and the truth says which (the
+// scene file's on_object); --flying takes a share; bad shares are errors naming them.
+TEST(CliSynth, StackedObjectsAndFlyingPixelsAreOptions) {
+  const fs::path dir = fresh_dir("stacked");
+  const CliRun r = run_cli(
+      "synth --seed 5 --scenes 6 --objects 6 --kinds box,cylinder --stacked 1 "
+      "--flying 0.5 --out " +
+      shell_quote(dir.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  int stacked = 0;
+  for (int i = 0; i < 6; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "scene_%04d.scene", i);
+    const Result<PhysicalScene> truth = read_scene_file(dir / name);
+    ASSERT_TRUE(truth.ok()) << truth.error().format();
+    for (const PhysicalObject& o : truth->objects) stacked += !o.on_object.empty();
+  }
+  EXPECT_GE(stacked, 3);
+  for (const char* bad : {"--stacked 1.5", "--flying -0.1", "--stacked half"}) {
+    const CliRun b = run_cli(std::string("synth ") + bad + " --out " + shell_quote(dir.string()));
+    EXPECT_EQ(b.exit_code, 2) << bad;
+    EXPECT_NE(b.output.find("expects a share from 0 to 1"), std::string::npos) << b.output;
+  }
+  fs::remove_all(dir);
 }
 
 TEST(CliSynth, SequencesAndSceneSetsAreNumbered) {

@@ -310,20 +310,28 @@ TEST(ObjectShapeRecognizer, PotWithLipAndHandlesIsACylinderOfItsBody) {
   EXPECT_NEAR(p.dimensions_m[1], h, 0.01);
 }
 
-// A storage box on the table, wide enough that its top is a support of its own, and a
-// can standing on that top: the can stands on the box by the support's id (no geometry
-// re-derived), is fitted on the box top, and names that support.
-TEST(ClutterStacking, ObjectOnABoxTopSupportStandsOnTheBox) {
+// A generated table seen from 1 m and `tilt_deg` above, with nothing on or around it:
+// the stacking tests place their own objects.
+Result<SyntheticScene> bare_table(double tilt_deg) {
   SyntheticSceneParams sp;
   sp.seed = 3;
   sp.object_count = 1;
   sp.camera_distance_min_m = sp.camera_distance_max_m = 1.0;
-  sp.camera_tilt_min_deg = sp.camera_tilt_max_deg = 45;
+  sp.camera_tilt_min_deg = sp.camera_tilt_max_deg = tilt_deg;
   Result<SyntheticScene> scene = generate_scene(sp);
-  ASSERT_TRUE(scene.ok()) << scene.error().format();
+  if (!scene) return scene;
   scene->objects.clear();
   scene->occluder.reset();
   scene->furniture.clear();
+  return scene;
+}
+
+// A storage box on the table, wide enough that its top is a support of its own, and a
+// can standing on that top: the can stands on the box by the support's id (no geometry
+// re-derived), is fitted on the box top, and names that support.
+TEST(ClutterStacking, ObjectOnABoxTopSupportStandsOnTheBox) {
+  Result<SyntheticScene> scene = bare_table(45);
+  ASSERT_TRUE(scene.ok()) << scene.error().format();
   const double box_h = 0.2, can_h = 0.12;
   scene->objects.push_back(resting_object(ShapeKind::box, {0.32, 0.26, box_h}, 0, 0.05));
   SyntheticObject can = resting_object(ShapeKind::cylinder, {0.04, can_h}, 0.02, 0.05);
@@ -351,16 +359,8 @@ TEST(ClutterStacking, ObjectOnABoxTopSupportStandsOnTheBox) {
 // crease between the lower lid's rim and the upper tin's side fades where the two
 // silhouettes meet, and without the level cut the two are one tall cylinder.
 TEST(ClutterStacking, TinOnATinOfItsWidthIsCutAtTheLevelCrease) {
-  SyntheticSceneParams sp;
-  sp.seed = 3;
-  sp.object_count = 1;
-  sp.camera_distance_min_m = sp.camera_distance_max_m = 1.0;
-  sp.camera_tilt_min_deg = sp.camera_tilt_max_deg = 25;
-  Result<SyntheticScene> scene = generate_scene(sp);
+  Result<SyntheticScene> scene = bare_table(25);
   ASSERT_TRUE(scene.ok()) << scene.error().format();
-  scene->objects.clear();
-  scene->occluder.reset();
-  scene->furniture.clear();
   const double lower_r = 0.05, lower_h = 0.1, upper_r = 0.042, upper_h = 0.12;
   scene->objects.push_back(resting_object(ShapeKind::cylinder, {lower_r, lower_h}, 0, 0.05));
   SyntheticObject upper = resting_object(ShapeKind::cylinder, {upper_r, upper_h}, 0.003, 0.05);

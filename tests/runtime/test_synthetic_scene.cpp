@@ -159,6 +159,16 @@ TEST(SyntheticScene, HouseholdSizesRestingOnTheTableWithoutTouching) {
   }
 }
 
+// The sensor model with its axial noise alone: every pixel kept where it was cast.
+SensorNoiseParams axial_only() {
+  SensorNoiseParams n;
+  n.lateral_sigma_px = 0;
+  n.dropout = 0;
+  n.edge_dropout = 0;
+  n.grazing_cos = 0;
+  return n;
+}
+
 TEST(SyntheticScene, AxialNoiseFollowsTheKinectModel) {
   SyntheticSceneParams p;
   p.seed = 11;
@@ -166,12 +176,7 @@ TEST(SyntheticScene, AxialNoiseFollowsTheKinectModel) {
   p.camera_distance_min_m = p.camera_distance_max_m = 1.0;
   const Result<SyntheticScene> s = generate_scene(p);
   ASSERT_TRUE(s.ok());
-  SensorNoiseParams axial_only;
-  axial_only.lateral_sigma_px = 0;
-  axial_only.dropout = 0;
-  axial_only.edge_dropout = 0;
-  axial_only.grazing_cos = 0;
-  const SyntheticFrame noisy = render_scene(*s, axial_only);
+  const SyntheticFrame noisy = render_scene(*s, axial_only());
   const SyntheticFrame clean = render_scene(*s, exact());
   double sum_at_1m = 0, sum2_at_1m = 0, sum2_normalized = 0;
   int n_at_1m = 0, n = 0;
@@ -207,11 +212,7 @@ TEST(SyntheticScene, FlyingPixelsLieBetweenAnEdgeAndWhatLiesBehindIt) {
   p.camera_distance_min_m = p.camera_distance_max_m = 1.0;
   const Result<SyntheticScene> s = generate_scene(p);
   ASSERT_TRUE(s.ok());
-  SensorNoiseParams flying;
-  flying.lateral_sigma_px = 0;
-  flying.dropout = 0;
-  flying.edge_dropout = 0;
-  flying.grazing_cos = 0;
+  SensorNoiseParams flying = axial_only();
   flying.axial = DepthNoise{1e-7, 0, 0};  // no noise to speak of
   flying.flying_share = 1;
   const SyntheticFrame mixed = render_scene(*s, flying);
