@@ -3383,7 +3383,9 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
                                      .min_part_coverage = params.touching_part_coverage,
                                      .min_part_size_m = params.touching_min_part_size_m,
                                      .waist_share = params.touching_waist_share,
-                                     .misfit_cut = params.touching_misfit_cut};
+                                     .misfit_cut = params.touching_misfit_cut,
+                                     .level_cut = params.touching_level_cut,
+                                     .level_min_height_m = params.segment.level_min_height_m};
   std::vector<std::optional<TouchingCut>> cuts(clusters.size());
   parallel_for(clusters.size(), [&](size_t c) {
     ScanCluster& sc = result.clusters[c];

@@ -434,6 +434,61 @@ std::optional<TouchingCut> refit_cut(
   return TouchingCut{std::move(a), std::move(b), std::move(na), std::move(nb)};
 }
 
+// Stacked bodies one primitive explains poorly (one standing on the other, too far for
+// the segmenter's crease test): what the one primitive leaves out lies above or below
+// the rest. The cut is level, at the left-out pixels' lowest heights when they lie
+// higher than the rest (the upper body left out) or at their highest when lower; each
+// part at least min_height_m tall. The upper part is fitted on that height as its plane
+// (the lower one's top), and the two are kept when both are explained, two primitives
+// beat one by the criterion, and the upper stands over the lower's footprint.
+std::optional<TouchingCut> level_misfit_cut(
+    const Frame& f, const ScanCluster& cluster, const std::vector<char>& left_out,
+    const FitTerms& whole, double least,
+    const std::function<void(ScanCluster&, std::vector<Vec3>&)>& refit,
+    const ShapeRecognizerParams& shape, const TouchingSplitParams& params) {
+  const Vec3 n = cluster.support.normal;
+  const double d = cluster.support.d;
+  std::vector<double> height(cluster.pixels.size()), out_h, kept_h;
+  for (size_t k = 0; k < cluster.pixels.size(); ++k) {
+    const PointXYZRGB& p = f.points[static_cast<size_t>(cluster.pixels[k])];
+    height[k] = dot(n, Vec3{p.x, p.y, p.z}) + d;
+    (left_out[k] ? out_h : kept_h).push_back(height[k]);
+  }
+  if (out_h.empty() || kept_h.empty()) return std::nullopt;
+  const auto quantile = [](std::vector<double> v, double q) {
+    const auto at = v.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
+    std::nth_element(v.begin(), at, v.end());
+    return *at;
+  };
+  const bool upper_left_out = quantile(out_h, 0.5) > quantile(kept_h, 0.5);
+  const double cut = upper_left_out ? quantile(out_h, 0.05) : quantile(out_h, 0.95);
+  double low = cut, high = cut;
+  for (double h : height) low = std::min(low, h), high = std::max(high, h);
+  if (cut - low < params.level_min_height_m || high - cut < params.level_min_height_m)
+    return std::nullopt;
+  ScanCluster a, b;
+  a.support = cluster.support;
+  b.support = Plane{n, d - cut};
+  for (size_t k = 0; k < height.size(); ++k)
+    (height[k] >= cut ? b : a).pixels.push_back(cluster.pixels[k]);
+  if (static_cast<double>(std::min(a.pixels.size(), b.pixels.size())) < least) return std::nullopt;
+  std::vector<Vec3> na, nb;
+  refit(b, nb);
+  const FitTerms tb = terms_of(f, b, shape.depth_noise);
+  if (!tb.recognised) return std::nullopt;
+  refit(a, na);
+  const FitTerms ta = terms_of(f, a, shape.depth_noise);
+  if (!both_recognised(ta, tb, params.min_part_coverage)) return std::nullopt;
+  const Criterion k = criterion(whole, ta, tb, shape);
+  if (!(k.two < k.one)) return std::nullopt;
+  // The upper body stands over the lower's footprint.
+  const ShapeFit &fa = a.shape.primitives.front(), &fb = b.shape.primitives.front();
+  const Vec3 apart = fb.primitive.center - fa.primitive.center;
+  if (norm(apart - n * dot(n, apart)) > footprint_radius(fa)) return std::nullopt;
+  b.support = cluster.support;  // the scanner's support; the stacking refits it on a's top
+  return TouchingCut{std::move(a), std::move(b), std::move(na), std::move(nb)};
+}
+
 }  // namespace
 
 std::optional<TouchingCut> touching_cut(
@@ -469,8 +524,11 @@ std::optional<TouchingCut> touching_cut(
   // (the milk frame's detergent bottle: 41 % by this count, its handle and veil no body).
   const double kept = static_cast<double>(left_out.size()) - out;
   if (out < least || kept < out) return std::nullopt;
-  if (!beside_primitive(f, cluster, left_out)) return std::nullopt;
-  return refit_cut(f, cluster, left_out, whole, least, refit, shape, params);
+  if (beside_primitive(f, cluster, left_out))
+    return refit_cut(f, cluster, left_out, whole, least, refit, shape, params);
+  if (params.level_cut)
+    return level_misfit_cut(f, cluster, left_out, whole, least, refit, shape, params);
+  return std::nullopt;
 }
 
 bool stands_on_two_feet(const Frame& f, const ScanCluster& cluster,

@@ -12,7 +12,10 @@
 // independent points. When that cut is not kept (the means halve the larger of two
 // bodies that differ in size), the cluster is cut along what the one primitive leaves
 // out, when that lies beside it. Either cut is kept only when the two parts stand side
-// by side, not round one axis. A cluster its one primitive explains nearly well enough is
+// by side, not round one axis. When what the one primitive leaves out lies above or
+// below the rest instead, the cut is level there (one body standing on the other), kept
+// by the same criterion when the upper stands over the lower's footprint. A cluster its
+// one primitive explains nearly well enough is
 // tried only when it stands on two feet (stands_on_two_feet): the refits cost as much
 // whether the cut is kept or not. Private to the scanner.
 
@@ -69,6 +72,11 @@ struct TouchingSplitParams {
   // leaves out is tried (ScanParams::touching_misfit_cut): the means halve the larger of
   // two bodies that differ in size.
   bool misfit_cut = true;
+  // ... and when that misfit lies above or below the rest, not beside it, the level cut
+  // (one body standing on the other; ScanParams::touching_level_cut), each part at least
+  // level_min_height_m tall (the segmenter's, SegmenterParams::level_min_height_m).
+  bool level_cut = true;
+  double level_min_height_m = 0.03;
 };
 
 // The cut of one cluster, when it is worth it: its two parts, fitted, and their normals.

@@ -485,6 +485,10 @@ struct ScanParams {
   // means halve the larger of two bodies that differ in size: a flat bowl against a box
   // of twice its pixels). false: the means' cut alone.
   bool touching_misfit_cut = true;
+  // ... and when what the one primitive leaves out lies above or below the rest, not
+  // beside it, the cut is level there: one body standing on the other, too far for the
+  // segmenter's crease test (segment.level_min_height_m tall each; touching_split.h).
+  bool touching_level_cut = true;
   // Each of the two parts shows at least the pixels of a body this wide at its depth
   // (the disc it spans in the image): the smallest object reported, whose pixel count
   // falls with the square of its depth.
