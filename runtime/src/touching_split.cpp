@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include "annex/runtime/object_shape_recognizer.h"
 
@@ -368,6 +370,23 @@ bool beside_primitive(const Frame& f, const ScanCluster& c, const std::vector<ch
   return norm(off - n * dot(n, off)) > 0.5 * footprint_radius(*fit);
 }
 
+// Parts a and b refitted (their normals into na, nb) with their criterion's terms; empty
+// when either has no shape. The second part first: along a misfit it is what the one
+// primitive leaves out, often no body (a bottle's handle and veil on the milk frame),
+// and the first part's refit is then not needed.
+std::optional<std::pair<FitTerms, FitTerms>> refit_parts(
+    const Frame& f, ScanCluster& a, ScanCluster& b, std::vector<Vec3>& na, std::vector<Vec3>& nb,
+    const std::function<void(ScanCluster&, std::vector<Vec3>&)>& refit,
+    const ShapeRecognizerParams& shape) {
+  refit(b, nb);
+  const FitTerms tb = terms_of(f, b, shape.depth_noise);
+  if (!tb.recognised) return std::nullopt;
+  refit(a, na);
+  const FitTerms ta = terms_of(f, a, shape.depth_noise);
+  if (!ta.recognised) return std::nullopt;
+  return std::pair{ta, tb};
+}
+
 // The cut of `cluster` along `side`, its parts refitted, then once more with each pixel
 // given to the nearer of the two fitted surfaces; kept when both parts are explained and
 // two primitives beat one by the criterion. `least`: the smaller part's fewest pixels.
@@ -383,15 +402,10 @@ std::optional<TouchingCut> refit_cut(
   a.support = b.support = cluster.support;
   for (size_t k = 0; k < side.size(); ++k) (side[k] ? b : a).pixels.push_back(cluster.pixels[k]);
   std::vector<Vec3> na, nb;
-  // The second part first: along the misfit, it is what the one primitive leaves out,
-  // often no body (a bottle's handle and veil on the milk frame), and the first part's
-  // refit is then not needed.
-  refit(b, nb);
-  const FitTerms tb = terms_of(f, b, shape.depth_noise);
-  if (!tb.recognised) return std::nullopt;
-  refit(a, na);
-  const FitTerms ta = terms_of(f, a, shape.depth_noise);
-  if (!ta.recognised) return std::nullopt;
+  const std::optional<std::pair<FitTerms, FitTerms>> terms =
+      refit_parts(f, a, b, na, nb, refit, shape);
+  if (!terms) return std::nullopt;
+  const auto& [ta, tb] = *terms;
   Criterion k = criterion(whole, ta, tb, shape);
   bool recognised = both_recognised(ta, tb, params.min_part_coverage);
   // The means' cut is straight; where the two bodies meet each pixel lies on one of
@@ -473,11 +487,10 @@ std::optional<TouchingCut> level_misfit_cut(
     (height[k] >= cut ? b : a).pixels.push_back(cluster.pixels[k]);
   if (static_cast<double>(std::min(a.pixels.size(), b.pixels.size())) < least) return std::nullopt;
   std::vector<Vec3> na, nb;
-  refit(b, nb);
-  const FitTerms tb = terms_of(f, b, shape.depth_noise);
-  if (!tb.recognised) return std::nullopt;
-  refit(a, na);
-  const FitTerms ta = terms_of(f, a, shape.depth_noise);
+  const std::optional<std::pair<FitTerms, FitTerms>> terms =
+      refit_parts(f, a, b, na, nb, refit, shape);
+  if (!terms) return std::nullopt;
+  const auto& [ta, tb] = *terms;
   if (!both_recognised(ta, tb, params.min_part_coverage)) return std::nullopt;
   const Criterion k = criterion(whole, ta, tb, shape);
   if (!(k.two < k.one)) return std::nullopt;
