@@ -450,9 +450,10 @@ std::optional<TouchingCut> refit_cut(
 
 // Stacked bodies one primitive explains poorly (one standing on the other, too far for
 // the segmenter's crease test): what the one primitive leaves out lies above or below
-// the rest. The cut is level, at the left-out pixels' lowest heights when they lie
-// higher than the rest (the upper body left out) or at their highest when lower; each
-// part at least min_height_m tall. The upper part is fitted on that height as its plane
+// what it explains. The cut is level, at the left-out pixels' lowest heights when they
+// lie higher than the rest (the upper body left out) or at their highest when lower,
+// with two thirds of the explained pixels on the other side; each part at least
+// level_min_height_m tall. The upper part is fitted on that height as its plane
 // (the lower one's top), and the two are kept when both are explained, two primitives
 // beat one by the criterion, and the upper stands over the lower's footprint.
 std::optional<TouchingCut> level_misfit_cut(
@@ -480,6 +481,12 @@ std::optional<TouchingCut> level_misfit_cut(
   for (double h : height) low = std::min(low, h), high = std::max(high, h);
   if (cut - low < params.level_min_height_m || high - cut < params.level_min_height_m)
     return std::nullopt;
+  // What the one primitive explains lies on the other side, two thirds of it at least
+  // (as misfit_on_one_side asks of a side-by-side cut): it is the other body's fit, not
+  // one object's whose misfit runs up its height (the milk frame's carton, its flaps).
+  const auto other_side = std::count_if(
+      kept_h.begin(), kept_h.end(), [&](double h) { return upper_left_out ? h < cut : h >= cut; });
+  if (3 * other_side < 2 * static_cast<std::ptrdiff_t>(kept_h.size())) return std::nullopt;
   ScanCluster a, b;
   a.support = cluster.support;
   b.support = Plane{n, d - cut};
