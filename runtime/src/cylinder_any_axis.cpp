@@ -1,5 +1,6 @@
 // A cylinder in any orientation (cylinder_any_axis.h).
 #include "cylinder_any_axis.h"
+#include "quantile.h"
 #include "shape_residuals.h"
 
 #include <Eigen/Dense>
@@ -12,13 +13,6 @@ namespace annex {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1)));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[k];
-}
 
 // Algebraic circle (Kasa) through 2D points with weights.
 bool kasa(const std::vector<Eigen::Vector2d>& q, const std::vector<double>& w, Eigen::Vector2d& c,

@@ -5,17 +5,9 @@
 #include <cmath>
 #include <map>
 
+#include "quantile.h"
+
 namespace annex {
-namespace {
-
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1)));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[k];
-}
-
-}  // namespace
 
 void fit_stacked_objects(std::vector<StackedObject>& objects, const Plane& support,
                          const ShapeRecognizerParams& params, double band_m) {

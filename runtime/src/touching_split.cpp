@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "annex/runtime/object_shape_recognizer.h"
+#include "quantile.h"
 
 namespace annex {
 namespace {
@@ -470,11 +471,6 @@ std::optional<TouchingCut> level_misfit_cut(
     (left_out[k] ? out_h : kept_h).push_back(height[k]);
   }
   if (out_h.empty() || kept_h.empty()) return std::nullopt;
-  const auto quantile = [](std::vector<double> v, double q) {
-    const auto at = v.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
-    std::nth_element(v.begin(), at, v.end());
-    return *at;
-  };
   const bool upper_left_out = quantile(out_h, 0.5) > quantile(kept_h, 0.5);
   const double cut = upper_left_out ? quantile(out_h, 0.05) : quantile(out_h, 0.95);
   double low = cut, high = cut;
