@@ -11,6 +11,7 @@
 //        [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only]
 //        [--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N]
 //        [--render-scale S] [--sensor NAME] [--flying SHARE] [--stacked SHARE]
+//        [--everyday SHARE]
 //        (--repeat: our scans per frame, 30; --pcl-repeat: PCL's, interleaved with ours,
 //        default max(5, repeat / 3); --threads: our worker threads, 2; --speed-only: the
 //        speed section alone, e.g. under callgrind; --pool-per-scan: every scan starts its
@@ -28,7 +29,9 @@
 //        that share of the edge pixels kept return a depth between their two surfaces
 //        (SensorNoiseParams::flying_share: a time-of-flight or stereo camera's mixed
 //        pixels); --stacked SHARE: that share of the boxes and cylinders carry an object on
-//        their top (stacked_share))
+//        their top (stacked_share); --everyday SHARE: that share of the cylinders are mugs
+//        or bottles, of the cones narrowing down cups with a handle (everyday_share; the
+//        features mug, bottle and cup))
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -396,6 +399,10 @@ std::vector<std::string> room_features(const SyntheticScene& s, const SyntheticO
   if (o.overhang) out.push_back("overhang");
   if (o.albedo < 1) out.push_back("dark");
   if (o.on_object >= 0) out.push_back("stacked");
+  if (!o.details.empty())  // --everyday
+    out.push_back(o.kind == ShapeKind::cone                   ? "cup"
+                  : o.details.front().kind == ShapeKind::cone ? "bottle"
+                                                              : "mug");
   const auto index = static_cast<int>(&o - s.objects.data());  // o is one of s.objects
   if (std::any_of(s.objects.begin(), s.objects.end(),
                   [&](const SyntheticObject& other) { return other.on_object == index; }))
@@ -451,7 +458,13 @@ struct WorldCamera {
   SensorNoiseParams noise;  // the Kinect's by default; --sensor NAME another's depth noise
 };
 
-void world_set(int scenes, int first_seed, bool room, double stacked_share, bool verbose,
+// The generator's shares the command line sets (--stacked, --everyday).
+struct SceneShares {
+  double stacked = 0;
+  double everyday = 0;
+};
+
+void world_set(int scenes, int first_seed, bool room, const SceneShares& shares, bool verbose,
                const std::string& png_dir, const ScanParams& params, const WorldCamera& camera) {
   const char* bands[] = {"< 1.5 m", "1.5-2.5 m", "> 2.5 m"};
   BandTally tally[3];
@@ -474,7 +487,8 @@ void world_set(int scenes, int first_seed, bool room, double stacked_share, bool
     const auto seed64 = static_cast<std::uint64_t>(seed);
     SyntheticSceneParams scene_params =
         room ? room_scene_params(seed64) : world_scene_params(seed64);
-    scene_params.stacked_share = stacked_share;
+    scene_params.stacked_share = shares.stacked;
+    scene_params.everyday_share = shares.everyday;
     Result<SyntheticScene> scene = generate_scene(scene_params);
     if (scene) *scene = with_camera_scaled(std::move(*scene), camera.render_scale);
     if (!scene) {
@@ -750,7 +764,7 @@ void world_set(int scenes, int first_seed, bool room, double stacked_share, bool
     }
     std::printf("    touching pairs (both whole): %d, both found as separate objects: %d\n", pairs,
                 pairs_split);
-    if (stacked_share > 0)
+    if (shares.stacked > 0)
       std::printf("    stacked objects found with the object under them: %d, reported on it: %d\n",
                   stacks, stacks_on_right);
     std::printf("  room features' confusion (truth -> scanned):\n");
@@ -808,7 +822,7 @@ int main(int argc, char** argv) {
   WorldCamera camera;
   bool pcl = true, world_only = false, speed_only = false, verbose = false, room = false;
   bool pool_per_scan = false;
-  double stacked_share = 0;
+  SceneShares shares;
   std::string png_dir;
   // The world set's scan parameters: the benchmarks' (objects only), or a scan config
   // file's over them (--scan-conf: an A/B run of one rule, e.g. touching_max_coverage 0).
@@ -821,7 +835,9 @@ int main(int argc, char** argv) {
     else if (a == "--world-seed" && i + 1 < argc) world_seed = std::atoi(argv[++i]);
     else if (a == "--rooms") room = true;
     else if (a == "--stacked" && i + 1 < argc)
-      stacked_share = std::clamp(std::atof(argv[++i]), 0.0, 1.0);
+      shares.stacked = std::clamp(std::atof(argv[++i]), 0.0, 1.0);
+    else if (a == "--everyday" && i + 1 < argc)
+      shares.everyday = std::clamp(std::atof(argv[++i]), 0.0, 1.0);
     else if (a == "--flying" && i + 1 < argc)
       camera.noise.flying_share = std::clamp(std::atof(argv[++i]), 0.0, 1.0);
     else if (a == "--pcl-repeat" && i + 1 < argc) pcl_repeat = std::max(1, std::atoi(argv[++i]));
@@ -858,12 +874,13 @@ int main(int argc, char** argv) {
           "usage: annex-bench-scan [--repeat N] [--pcl-repeat N] [--threads N] [--scenes N] "
           "[--world N] [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] "
           "[--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N] "
-          "[--render-scale S] [--sensor NAME] [--flying SHARE] [--stacked SHARE]\n");
+          "[--render-scale S] [--sensor NAME] [--flying SHARE] [--stacked SHARE]\n"
+          "       [--everyday SHARE]\n");
       return 2;
     }
   }
   if (world_only) {
-    world_set(world, world_seed, room, stacked_share, verbose, png_dir, world_params, camera);
+    world_set(world, world_seed, room, shares, verbose, png_dir, world_params, camera);
     return 0;
   }
   const std::filesystem::path real =
@@ -880,8 +897,7 @@ int main(int argc, char** argv) {
   else std::printf("speed: ../shared/data/real absent, real frame skipped\n");
   if (speed_only) return 0;
   speed(synthetic(7).frame, "generated scene seed 7", repeat, pcl_repeat, threads, pool_per_scan);
-  if (world > 0)
-    world_set(world, world_seed, room, stacked_share, verbose, png_dir, world_params, camera);
+  if (world > 0) world_set(world, world_seed, room, shares, verbose, png_dir, world_params, camera);
   accuracy_and_ransac(scenes, std::min(scenes, 30));
   if (real_frame) real_clusters(*real_frame);
   return 0;

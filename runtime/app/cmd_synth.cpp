@@ -58,7 +58,7 @@ int run_synth(const std::vector<std::string>& args) {
   const auto parsed = parse_args("synth", args,
                                  {{"occluder", "no-noise"},
                                   {"seed", "objects", "out", "frames", "scenes", "kinds",
-                                   "depth-noise", "stacked", "flying"}});
+                                   "depth-noise", "stacked", "everyday", "flying"}});
   if (!parsed) return kExitBadInput;
   if (!parsed->positional.empty()) {
     std::cerr << "annex-runtime synth: error: unexpected argument '" << parsed->positional[0]
@@ -132,7 +132,8 @@ int run_synth(const std::vector<std::string>& args) {
     noise.axial = *axial;
   }
   for (auto [name, target] :
-       {std::pair{"stacked", &params.stacked_share}, std::pair{"flying", &noise.flying_share}}) {
+       {std::pair{"stacked", &params.stacked_share}, std::pair{"everyday", &params.everyday_share},
+        std::pair{"flying", &noise.flying_share}}) {
     if (auto v = parsed->get(name)) {
       const std::optional<double> share = parse_share(name, *v);
       if (!share) return kExitBadInput;
@@ -172,7 +173,8 @@ const Command kSynthCommand{
     "synth", "write synthetic tabletop frames with ground truth",
     "usage: annex-runtime synth --out DIR [--seed N] [--objects K] [--frames F | --scenes C]\n"
     "                           [--kinds sphere,cylinder,...] [--occluder] [--no-noise]\n"
-    "                           [--depth-noise NAME] [--stacked SHARE] [--flying SHARE]\n"
+    "                           [--depth-noise NAME] [--stacked SHARE] [--everyday SHARE]\n"
+    "                           [--flying SHARE]\n"
     "\n"
     "Renders tabletop scenes as a Kinect would see them (640x480, fx = fy = 525, axial\n"
     "noise 0.0012 + 0.0019 (z - 0.4)^2 m, lateral jitter, dropout) and writes\n"
@@ -194,6 +196,9 @@ const Command kSynthCommand{
     "  --stacked SHARE  that share (0 to 1) of the boxes and cylinders carry a box,\n"
     "                 cylinder or cone on their top; the .scene names what each stands on\n"
     "                 ('on_object')\n"
+    "  --everyday SHARE  that share of the cylinders are mugs (a handle) or bottles (a\n"
+    "                 shoulder, neck and cap), of the cones narrowing down cups with a\n"
+    "                 handle; the .scene holds their bodies\n"
     "  --flying SHARE   that share of the pixels kept at depth edges return a depth\n"
     "                 between their two surfaces (a time-of-flight or stereo camera's\n"
     "                 flying pixels; the Kinect, the default, drops most of them: 0)\n"

@@ -132,9 +132,17 @@ PixelRect project_box(const SyntheticScene& s, Vec3 center, Vec3 half) {
   return r;
 }
 
+// The box round the object and its details (a handle reaches out, a neck up).
 PixelRect object_rect(const SyntheticScene& s, const SyntheticObject& o) {
-  const double f = footprint_radius(o);
-  return project_box(s, o.center, {f, f, half_height(o)});
+  double f = footprint_radius(o), lo = -half_height(o), hi = half_height(o);
+  for (const SyntheticDetail& part : o.details) {
+    f = std::max(f, std::hypot(part.offset.x, part.offset.y) +
+                        annex::footprint_radius(part.kind, part.dimensions_m));
+    const double half =
+        part.kind == ShapeKind::box ? 0.5 * part.dimensions_m[2] : 0.5 * part.dimensions_m[1];
+    lo = std::min(lo, part.offset.z - half), hi = std::max(hi, part.offset.z + half);
+  }
+  return project_box(s, o.center + Vec3{0, 0, 0.5 * (lo + hi)}, {f, f, 0.5 * (hi - lo)});
 }
 
 double overlap_area(const PixelRect& a, const PixelRect& b) {
@@ -170,6 +178,18 @@ LocalHit hit_object(const SyntheticObject& obj, Vec3 origin, Vec3 dir) {
     case ShapeKind::torus: h = hit_torus(o, d, dim[0], dim[1]); break;
     case ShapeKind::box: h = hit_box(o, d, {dim[0] * 0.5, dim[1] * 0.5, dim[2] * 0.5}); break;
     case ShapeKind::plane: h = hit_box(o, d, {dim[0] * 0.5, dim[1] * 0.5, 0.0005}); break;
+  }
+  for (const SyntheticDetail& part : obj.details) {
+    const Vec3 po = o - part.offset;
+    const auto& pd = part.dimensions_m;
+    LocalHit ph;
+    if (part.kind == ShapeKind::cylinder)
+      ph = hit_cylinder(po, d, pd[0], pd[1]);
+    else if (part.kind == ShapeKind::cone)
+      ph = hit_cone(po, d, pd[0], pd[1], part.narrow_radius_m);
+    else
+      ph = hit_box(po, d, {pd[0] * 0.5, pd[1] * 0.5, pd[2] * 0.5});
+    if (ph.t < h.t) h = ph;
   }
   h.normal = rotate_z(h.normal, yaw);
   return h;
@@ -249,6 +269,7 @@ void add_floor_objects(const SyntheticSceneParams& params, SyntheticScene& s, st
 void add_shelf_objects(const SyntheticSceneParams& params, SyntheticScene& s, std::vector<PixelRect>& rects);
 void add_room_extras(const SyntheticSceneParams& params, SyntheticScene& s);
 void add_stacked_objects(const SyntheticSceneParams& params, SyntheticScene& s);
+void add_everyday_objects(const SyntheticSceneParams& params, SyntheticScene& s);
 std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std::mt19937_64& rng,
                                          int& placed_count);
 }  // namespace
@@ -273,10 +294,10 @@ Result<SyntheticScene> generate_scene(const SyntheticSceneParams& params) {
       !share(params.shelf_chance) || !share(params.touching_share) ||
       !share(params.overhang_share) || !share(params.dark_share) ||
       !share(params.back_chair_chance) || !share(params.cabinet_chance) ||
-      !share(params.pole_chance) || !share(params.stacked_share))
+      !share(params.pole_chance) || !share(params.stacked_share) || !share(params.everyday_share))
     return Error{
         "floor and shelf objects must not be negative; chair, shelf, back chair, cabinet and "
-        "pole chances, touching, overhang, dark and stacked shares within [0, 1]",
+        "pole chances, touching, overhang, dark, stacked and everyday shares within [0, 1]",
         {}};
 
   // Whole layouts are redrawn (camera included) when the objects do not fit; the
@@ -741,6 +762,94 @@ void add_stacked_objects(const SyntheticSceneParams& params, SyntheticScene& s) 
   }
 }
 
+// A C-shaped handle on the body's local +x side: two arms from inside its wall out to a
+// grip, boxes 8-12 mm thick. `radius_at(z)`: the body's radius at height z over its
+// centre; `height` its height.
+void add_handle(SyntheticObject& o, double height, const std::function<double(double)>& radius_at,
+                std::mt19937_64& rng) {
+  constexpr double kIntoWall_m = 0.004;  // the arms start inside the wall: no seam
+  const double reach = uniform(rng, 0.02, 0.03), thick = uniform(rng, 0.008, 0.012);
+  const double width = uniform(rng, 0.01, 0.015), span = height * uniform(rng, 0.5, 0.7);
+  const double mid = height * uniform(rng, 0.0, 0.1);
+  const double top = mid + 0.5 * (span - thick), bottom = mid - 0.5 * (span - thick);
+  const double outer = std::max(radius_at(top), radius_at(bottom)) + reach;
+  for (double z : {top, bottom}) {
+    const double inner = radius_at(z) - kIntoWall_m;
+    o.details.push_back(
+        {ShapeKind::box, {outer - inner, width, thick}, 0, {0.5 * (inner + outer), 0, z}});
+  }
+  o.details.push_back({ShapeKind::box, {thick, width, span}, 0, {outer - 0.5 * thick, 0, mid}});
+}
+
+// The handle's side turned away from the nearest object on the same support (a
+// touching neighbour most of all), give or take 60 degrees.
+double handle_yaw(const SyntheticScene& s, std::size_t k, std::mt19937_64& rng) {
+  const SyntheticObject& o = s.objects[k];
+  double nearest = 1e9, away_deg = uniform(rng, 0, 360);
+  for (std::size_t j = 0; j < s.objects.size(); ++j) {
+    const SyntheticObject& other = s.objects[j];
+    if (j == k || other.support != o.support) continue;
+    const double dx = o.center.x - other.center.x, dy = o.center.y - other.center.y;
+    if (std::hypot(dx, dy) < nearest)
+      nearest = std::hypot(dx, dy), away_deg = std::atan2(dy, dx) * 180 / std::numbers::pi;
+  }
+  return away_deg + uniform(rng, -60, 60);
+}
+
+// A cylinder made a bottle of the same height: a body of 55-75 % of it, a shoulder
+// narrowing to the neck, the neck and a cap 3 mm wider. Too short for one (15 cm), a mug.
+void make_bottle(SyntheticObject& o, std::mt19937_64& rng) {
+  const double r = o.dimensions_m[0], total = o.dimensions_m[1];
+  const double base = o.center.z - 0.5 * total;
+  const double body = total * uniform(rng, 0.55, 0.75), shoulder = total * uniform(rng, 0.06, 0.15);
+  const double neck_r = std::min(uniform(rng, 0.011, 0.018), 0.5 * r),
+               cap = uniform(rng, 0.015, 0.02);
+  const double neck = total - body - shoulder - cap;
+  o.dimensions_m[1] = body;
+  o.center.z = base + 0.5 * body;
+  const double top = 0.5 * body;
+  o.details.push_back({ShapeKind::cone, {r, shoulder}, neck_r, {0, 0, top + 0.5 * shoulder}});
+  o.details.push_back(
+      {ShapeKind::cylinder, {neck_r, neck}, 0, {0, 0, top + shoulder + 0.5 * neck}});
+  o.details.push_back(
+      {ShapeKind::cylinder, {neck_r + 0.003, cap}, 0, {0, 0, top + shoulder + neck + 0.5 * cap}});
+}
+
+// everyday_share of the cylinders become mugs or bottles, of the cones narrowing down
+// 5-14 cm tall cups with a handle, unless another object stands on them. Drawn from its
+// own stream after the stacks, so the scene is otherwise the one without them.
+void add_everyday_objects(const SyntheticSceneParams& params, SyntheticScene& s) {
+  if (params.everyday_share <= 0) return;
+  std::mt19937_64 rng(mix_seed(params.seed, 0xe7e1));
+  for (std::size_t k = 0; k < s.objects.size(); ++k) {
+    SyntheticObject& o = s.objects[k];
+    const bool cup = o.kind == ShapeKind::cone && o.apex_down && o.dimensions_m[1] >= 0.05 &&
+                     o.dimensions_m[1] <= 0.14;
+    if ((o.kind != ShapeKind::cylinder && !cup) || uniform(rng, 0, 1) >= params.everyday_share)
+      continue;
+    const bool carries = std::any_of(
+        s.objects.begin(), s.objects.end(),
+        [&](const SyntheticObject& other) { return other.on_object == static_cast<int>(k); });
+    if (carries) continue;
+    const double r = o.dimensions_m[0], h = o.dimensions_m[1];
+    if (cup) {
+      const double narrow = o.narrow_radius_m;  // at the foot: the cone is apex down
+      o.yaw_deg = handle_yaw(s, k, rng);
+      add_handle(
+          o, h, [=](double z) { return narrow + (r - narrow) * (z / h + 0.5); }, rng);
+    } else if (uniform(rng, 0, 1) < 0.5 && h >= 0.15) {
+      make_bottle(o, rng);
+    } else {
+      const double base = o.center.z - 0.5 * h, mug = uniform(rng, 0.07, 0.12);
+      o.dimensions_m[1] = mug;
+      o.center.z = base + 0.5 * mug;
+      o.yaw_deg = handle_yaw(s, k, rng);
+      add_handle(
+          o, mug, [=](double) { return r; }, rng);
+    }
+  }
+}
+
 // The room's extra elements (back_chair_chance, cabinet_chance, pole_chance), drawn last
 // from a stream of their own so the scene's other draws stay; appended to the furniture
 // after every other block (the objects' support indices stay).
@@ -918,6 +1027,7 @@ std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std
       if (uniform(rng, 0, 1) < params.dark_share) darken(o, uniform(rng, 0.15, 0.35));
   add_room_extras(params, s);
   add_stacked_objects(params, s);
+  add_everyday_objects(params, s);
 
   if (params.occluder) {
     // Crosses the line of sight to the aim point, a bit under half-way from the camera.

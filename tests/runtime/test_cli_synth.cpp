@@ -113,7 +113,11 @@ TEST(CliSynth, StackedObjectsAndFlyingPixelsAreOptions) {
     for (const PhysicalObject& o : truth->objects) stacked += !o.on_object.empty();
   }
   EXPECT_GE(stacked, 3);
-  for (const char* bad : {"--stacked 1.5", "--flying -0.1", "--stacked half"}) {
+  const CliRun everyday =
+      run_cli("synth --seed 5 --objects 6 --kinds cylinder --everyday 1 --out " +
+              shell_quote(dir.string()));
+  EXPECT_EQ(everyday.exit_code, 0) << everyday.output;
+  for (const char* bad : {"--stacked 1.5", "--flying -0.1", "--stacked half", "--everyday 2"}) {
     const CliRun b = run_cli(std::string("synth ") + bad + " --out " + shell_quote(dir.string()));
     EXPECT_EQ(b.exit_code, 2) << bad;
     EXPECT_NE(b.output.find("expects a share from 0 to 1"), std::string::npos) << b.output;

@@ -408,8 +408,59 @@ TEST(SyntheticRooms, StackedObjectsStandOnTheTopOfTheObjectUnderThem) {
   EXPECT_GE(stacked, 10);
 }
 
+// Everyday objects (everyday_share): mugs and cups carry a handle reaching out of their
+// wall, bottles a shoulder, neck and cap up to the height drawn; the truth is the body,
+// which stays on its support; every pixel the details take is the object's; the rest of
+// the scene is the one without them.
+TEST(SyntheticRooms, EverydayObjectsCarryHandlesOrNecksTheirTruthIsTheBody) {
+  int mugs = 0, bottles = 0, cups = 0;
+  for (std::uint64_t seed = 6001; seed <= 6012; ++seed) {
+    SyntheticSceneParams p = room_scene_params(seed);
+    p.everyday_share = 1;
+    const SyntheticScene with = room(p);
+    p.everyday_share = 0;
+    const SyntheticScene without = room(p);
+    ASSERT_EQ(with.objects.size(), without.objects.size());
+    const SyntheticFrame f = render_scene(with, exact());
+    const SyntheticFrame plain = render_scene(without, exact());
+    for (std::size_t i = 0; i < with.objects.size(); ++i) {
+      const SyntheticObject& o = with.objects[i];
+      const SyntheticObject& was = without.objects[i];
+      EXPECT_EQ(o.center.x, was.center.x) << "seed " << seed;
+      if (o.details.empty()) continue;
+      const auto& d = o.dimensions_m;
+      // The body's foot stays where the plain solid's was.
+      EXPECT_NEAR(o.center.z - 0.5 * d[1], was.center.z - 0.5 * was.dimensions_m[1], 1e-9);
+      EXPECT_EQ(f.truth.objects[i].primitives[0].dimensions_m, d) << "seed " << seed;
+      if (o.kind == ShapeKind::cone) {
+        ++cups;
+        EXPECT_TRUE(o.apex_down);
+      } else if (o.details.front().kind == ShapeKind::cone) {
+        ++bottles;
+        ASSERT_EQ(o.details.size(), 3u);
+        const SyntheticDetail& cap = o.details.back();
+        // The neck ends at the height drawn for the plain cylinder.
+        EXPECT_NEAR(o.center.z + cap.offset.z + 0.5 * cap.dimensions_m[1],
+                    was.center.z + 0.5 * was.dimensions_m[1], 1e-9);
+        EXPECT_LT(o.details[1].dimensions_m[0], 0.5 * d[0] + 1e-9);  // a neck, not a tin
+      } else {
+        ++mugs;
+        ASSERT_EQ(o.details.size(), 3u);
+        const SyntheticDetail& grip = o.details.back();
+        EXPECT_GT(grip.offset.x, d[0] + 0.015);  // out of the wall, a hand's grip away
+        EXPECT_LT(grip.offset.z + 0.5 * grip.dimensions_m[2], 0.5 * d[1] + 0.011);
+      }
+      EXPECT_GT(count_label(f, static_cast<int>(i)), count_label(plain, static_cast<int>(i)) / 4)
+          << "seed " << seed;
+    }
+  }
+  EXPECT_GE(mugs, 5);
+  EXPECT_GE(bottles, 5);
+  EXPECT_GE(cups, 1);
+}
+
 TEST(SyntheticRooms, FeatureSharesOutOfRangeAreErrors) {
-  for (int which = 0; which < 11; ++which) {
+  for (int which = 0; which < 12; ++which) {
     SyntheticSceneParams p = room_scene_params(6001);
     if (which == 0) p.chair_chance = 1.5;
     if (which == 1) p.shelf_chance = -0.1;
@@ -422,6 +473,7 @@ TEST(SyntheticRooms, FeatureSharesOutOfRangeAreErrors) {
     if (which == 8) p.cabinet_chance = -0.5;
     if (which == 9) p.pole_chance = 2;
     if (which == 10) p.stacked_share = -0.2;
+    if (which == 11) p.everyday_share = 1.2;
     EXPECT_FALSE(generate_scene(p).ok()) << which;
   }
 }

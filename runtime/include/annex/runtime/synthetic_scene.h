@@ -107,9 +107,27 @@ struct SyntheticSceneParams {
   // object on their top: a mug on a book, a tin on a tin, a box on a box. The upper
   // object is a box, cylinder or cone narrower than the top it stands on.
   double stacked_share = 0;
+  // Share of the cylinders and of the cones narrowing down (cups, bowls) that are
+  // everyday objects rather than plain solids: half of the cylinders a mug (a C-shaped
+  // handle on a body 7-12 cm tall), half a bottle (the drawn height kept: a body of
+  // 55-75 % of it, a shoulder narrowing to a neck of 1.1-1.8 cm radius, a cap); every
+  // such cone a cup with a handle. The truth is the body (the handle, shoulder and neck
+  // are no primitive a user annexes). Drawn from a stream of its own, after the stacks:
+  // an object carrying another keeps its plain top.
+  double everyday_share = 0;
   // A box (an arm, say) crossing the view between camera and table, for tracking tests.
   bool occluder = false;
   double occluder_speed_m_per_frame = 0.012;
+};
+
+// A part of an everyday object besides its body (everyday_share: a mug's handle, a
+// bottle's shoulder, neck and cap): a box, a cylinder or a cone narrowing up, seen as
+// the object's own surface.
+struct SyntheticDetail {
+  ShapeKind kind = ShapeKind::box;
+  std::vector<double> dimensions_m;  // dimension_names(kind) order
+  double narrow_radius_m = 0;        // cone only: a frustum's top radius
+  Vec3 offset;                       // its centre from the body's, in the body's frame (yaw 0)
 };
 
 // An object resting on the table. `center` is in the table frame: the middle of the
@@ -131,6 +149,7 @@ struct SyntheticObject {
   Vec3 center;
   double yaw_deg = 0;  // about +Z; only a box shows it
   std::array<std::uint8_t, 3> color{200, 60, 60};
+  std::vector<SyntheticDetail> details;  // everyday_share: what the body carries
   Vec3 velocity_m_per_frame;  // horizontal drift
   double spin_deg_per_frame = 0;
 };
