@@ -1725,6 +1725,34 @@ int margin_paid_choice(const std::vector<SelectionEntry>& entries, double n, dou
   return std::max(0, least_criterion(entries, n, mean_tol2, saturated, false));
 }
 
+// Whether a body and its neck (a bottle's cylinder and the cone or cylinder above it)
+// explain the points closer than one cone through both, by the information criterion
+// (least_criterion) over n independent points: each point's residual to the nearer of
+// the two, truncated at its tolerance, against the cone's; the pair pays for its
+// parameters. Only when the pair too covers `saturated` of the points.
+bool pair_over_cone(const Samples& s, const Candidate& body, const Candidate& neck,
+                    const Candidate& cone, double n, double mean_tol2, double saturated) {
+  const CandidateTerms tb = terms_of(body), tn = terms_of(neck), tc = terms_of(cone);
+  double pair_score = 0, cone_score = 0, pair_sq = 0, cone_sq = 0;
+  int pair_in = 0, cone_in = 0;
+  for (size_t i = 0; i < s.p.size(); ++i) {
+    const double dp = std::min(distance(body, tb, s.p[i]), distance(neck, tn, s.p[i]));
+    const double dc = distance(cone, tc, s.p[i]);
+    if (dp < s.tol[i])
+      pair_score += 1 - (dp / s.tol[i]) * (dp / s.tol[i]), pair_sq += dp * dp, ++pair_in;
+    if (dc < s.tol[i])
+      cone_score += 1 - (dc / s.tol[i]) * (dc / s.tol[i]), cone_sq += dc * dc, ++cone_in;
+  }
+  const double count = static_cast<double>(std::max<size_t>(s.p.size(), 1));
+  const auto rms = [](double sq, int in) { return in > 0 ? std::sqrt(sq / in) : 0.0; };
+  const std::vector<SelectionEntry> entries{
+      {cone_score / count, cone_in / count, rms(cone_sq, cone_in), parameter_count(cone.model)},
+      {pair_score / count, pair_in / count, rms(pair_sq, pair_in),
+       parameter_count(body.model) + parameter_count(neck.model)}};
+  return entries[1].coverage >= saturated &&
+         saturated_choice(entries, n, mean_tol2, saturated) == 1;
+}
+
 // Points credited half (a lid's, a rim's lip or handle: in_lid, in_rim_part) are no
 // evidence against a shape, and no evidence for it either: they must not make it win
 // over a rival that explains more of the points as its own surface, and closer. Far
@@ -2294,8 +2322,14 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     return out;
   }
   // Secondary primitive: the points above an upright body that it does not explain
-  // (a bottle's shoulder and neck), fitted as a cone or cylinder over that band.
-  auto secondary = [&](const Candidate& body) -> std::optional<ShapeFit> {
+  // (a bottle's shoulder and neck), fitted as a cone or cylinder over that band; with the
+  // share of the points they are.
+  struct Secondary {
+    Candidate neck;
+    double share = 0;
+  };
+  auto secondary_candidate = [&](const Candidate& body,
+                                 double min_share) -> std::optional<Secondary> {
     if (body.model != Model::cylinder && body.model != Model::box) return std::nullopt;
     std::vector<int> rest;
     const CandidateTerms body_terms = terms_of(body);
@@ -2303,7 +2337,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
       if (distance(body, body_terms, s.p[i]) > s.tol[i] && s.p[i].h > body.h1 - 2 * s.tol[i])
         rest.push_back(static_cast<int>(i));
     const double share = static_cast<double>(rest.size()) / s.p.size();
-    if (share < params.min_secondary_share || rest.size() < 30) return std::nullopt;
+    if (share < min_share || rest.size() < 30) return std::nullopt;
     std::vector<double> rh;
     for (int i : rest) rh.push_back(s.p[i].h);
     const double base = quantile(rh, 0.02);
@@ -2331,10 +2365,18 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     const double body_r = body.model == Model::cylinder ? body.r0 : std::max(body.ex, body.ey);
     if (pick->h1 - pick->h0 < 0.015 || std::max(pick->r0, pick->r1) > 1.05 * body_r)
       return std::nullopt;
-    ShapeFit fit = to_fit(*pick, frame);
-    fit.coverage = pick->coverage * share;
+    return Secondary{*pick, share};
+  };
+  auto secondary_fit = [&](const Secondary& second) {
+    ShapeFit fit = to_fit(second.neck, frame);
+    fit.coverage = second.neck.coverage * second.share;
     fit.primitive.fit = fit.coverage;
     return fit;
+  };
+  auto secondary = [&](const Candidate& body) -> std::optional<ShapeFit> {
+    const std::optional<Secondary> second = secondary_candidate(body, params.min_secondary_share);
+    if (!second) return std::nullopt;
+    return secondary_fit(*second);
   };
 
   std::optional<ShapeFit> second;
@@ -2343,13 +2385,29 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   // points, which may count a point twice: the pair covers at most all of them, so a
   // cone explaining every point keeps it (fresh rooms 9882: a bowl 2.4 m away, its
   // cylinder 86 % and its rim as a "neck" 23 %, against the cone's 100 %).
+  // Far away both cover every point (the tolerance grows with the noise): the residuals
+  // decide, by the information criterion over the two (pair_or_cone).
   if (best >= 0 && cands[best].model == Model::cone && cands[0].valid &&
       cands[0].model == Model::cylinder) {
-    std::optional<ShapeFit> neck = secondary(cands[0]);
-    if (neck && std::min(1.0, cands[0].coverage + neck->coverage) >
-                    cands[best].coverage + 2 * params.complexity_margin) {
-      best = 0;
-      second = neck;
+    const std::optional<Secondary> neck =
+        secondary_candidate(cands[0], params.pair_min_secondary_share);
+    if (neck) {
+      const ShapeFit neck_fit = secondary_fit(*neck);
+      const bool covers_more = std::min(1.0, cands[0].coverage + neck_fit.coverage) >
+                               cands[best].coverage + 2 * params.complexity_margin;
+      const double saturated = 1 - params.complexity_margin;
+      const bool narrow =
+          std::max(neck->neck.r0, neck->neck.r1) <= params.pair_max_neck_share * cands[0].r0;
+      const auto explains_closer = [&] {
+        if (!narrow) return false;
+        if (independent.value < 0) independent.value = independent_points(s, params.focal_px);
+        return pair_over_cone(s, cands[0], neck->neck, cands[best], independent.value, tol2,
+                              saturated);
+      };
+      if (covers_more || (cands[best].coverage >= saturated && explains_closer())) {
+        best = 0;
+        second = neck_fit;
+      }
     }
   }
   if (best < 0 || cands[best].coverage < params.min_coverage) {

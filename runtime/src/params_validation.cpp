@@ -83,6 +83,9 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.at_least("mls_window_px", p.mls_window_px, 1);
   c.range("min_view_cos", p.min_view_cos, 0, 1);
   c.non_negative("part_margin_m", p.part_margin_m);
+  c.non_negative("part_hang_reach_m", p.part_hang_reach_m);
+  c.range("neck_min_slope_deg", p.neck_min_slope_deg, 0, 90);
+  c.range("neck_max_width_share", p.neck_max_width_share, 0, 1);
   c.non_negative("overhang_margin_m", p.overhang_margin_m);
   c.non_negative("seen_part_reach_m", p.seen_part_reach_m);
   c.range("part_share", p.part_share, 0, 1);
@@ -113,6 +116,8 @@ Status validate_scan_params(const ScanParams& p, std::string_view prefix) {
   c.range("shape.min_cone_taper", p.shape.min_cone_taper, 0, 1);
   c.non_negative("shape.cone_taper_doubt", p.shape.cone_taper_doubt);
   c.range("shape.min_secondary_share", p.shape.min_secondary_share, 0, 1);
+  c.range("shape.pair_min_secondary_share", p.shape.pair_min_secondary_share, 0, 1);
+  c.range("shape.pair_max_neck_share", p.shape.pair_max_neck_share, 0, 1);
   c.non_negative("shape.side_shape_penalty", p.shape.side_shape_penalty);
   c.at_least("shape.max_fit_points", p.shape.max_fit_points, 10);
   c.non_negative("shape.box_azimuth_doubt_m", p.shape.box_azimuth_doubt_m);

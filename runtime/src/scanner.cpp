@@ -16,6 +16,7 @@
 #include "furniture_rules.h"
 #include "occlusion_join.h"
 #include "point_scatter.h"
+#include "quantile.h"
 #include "scan_pool.h"
 #include "smallest_eigenvector.h"
 #include "stacking.h"
@@ -1117,6 +1118,50 @@ bool mostly_inside(const ShapeFit& solid, const std::vector<Vec3>& pts, double m
   return static_cast<double>(inside) >= need;
 }
 
+// Whether a piece hangs in the air from object `owner` (its index in `label`): its foot
+// (the 5 % quantile of its pixels' heights) lies above its support's band at its depth,
+// and under its foot, in more than half of its columns (three at least), the first pixel
+// with depth one to three grid rows (`step` pixels) down is the owner's, or lies beyond
+// the foot by more than three sigma of the depth noise while the foot is higher than
+// anything of its own its width could hide beneath it (hangs_seen_under's geometry: a
+// ball's underside curves away under its lowest pixel). A dropout proves nothing.
+bool hangs_from(const Frame& f, const ScanCluster& sc, int owner, const std::vector<int>& label,
+                const ScanParams& params, int step) {
+  if (sc.pixels.empty()) return false;
+  const Vec3 n = sc.support.normal;
+  const Vec3 view_x = normalized(Vec3{1, 0, 0} - n * n.x);
+  std::vector<double> heights, depths;
+  double x_lo = 1e9, x_hi = -1e9, low_h = 1e9;
+  Vec3 low;
+  for (int i : sc.pixels) {
+    const Vec3 p = to_vec(f.points[static_cast<size_t>(i)]);
+    const double h = dot(n, p) + sc.support.d;
+    heights.push_back(h);
+    depths.push_back(p.z);
+    x_lo = std::min(x_lo, dot(view_x, p)), x_hi = std::max(x_hi, dot(view_x, p));
+    if (h < low_h) low_h = h, low = p;
+  }
+  const double foot = quantile(heights, 0.05);
+  if (foot <= plane_band(params, quantile(depths, 0.5))) return false;
+  const double run = norm(low - n * dot(n, low));
+  const bool above_own = run > 0 && foot > (x_hi - x_lo) * (sc.support.d - foot) / run;
+  const std::vector<std::pair<int, int>> ends = end_per_column(f, sc.pixels, false);
+  const int count = static_cast<int>(f.points.size());
+  int under = 0;
+  for (const auto& [col, i] : ends)
+    for (int r = 1; r <= 3; ++r) {
+      const int j = i + r * step * f.width;
+      if (j >= count) break;
+      if (!has_depth(f.points[static_cast<size_t>(j)])) continue;
+      const double z = f.points[static_cast<size_t>(i)].z;
+      under +=
+          label[static_cast<size_t>(j)] == owner ||
+          (above_own && f.points[static_cast<size_t>(j)].z > z + 3 * params.depth_noise.sigma_z(z));
+      break;
+    }
+  return ends.size() >= 3 && 2 * static_cast<size_t>(under) > ends.size();
+}
+
 // An object that took parts (merge_parts): its index after the merge, itself before it,
 // and the parts it took.
 struct GrownObject {
@@ -1136,10 +1181,26 @@ struct GrownObject {
 // board and what stands on it). What lies in such an object and in no other is kept
 // apart, its pixels marked in `apart` (a piece of the cut object, or an object of its
 // own: no one can tell).
+// Whether a piece's lowest point lies a third of the stacking band below the top of a
+// bigger object: beside it, as a handle, not on its top, as what stands there.
+bool hangs_beside(const ScanCluster& part, const ScanCluster& big) {
+  const Vec3 n = part.support.normal;
+  const double d = part.support.d;
+  double low = 1e9, top = -1e9;
+  for (const Vec3& p : part.points) low = std::min(low, dot(n, p) + d);
+  for (const Vec3& p : big.points) top = std::max(top, dot(n, p) + d);
+  return low < top - kStackBand_m / 3;
+}
+
+// A piece hanging from an object (`hangs(piece, object)`: nothing of its own holds it
+// up), beside it (hangs_beside), whose solid grown by part_hang_reach_m holds it is a
+// part of it (a mug's handle cut off at the crease where it meets the wall). `rises_from`: per
+// cluster the object it rises from (restack), -1 none: its part too.
 std::vector<GrownObject> merge_parts(const ScanParams& params, ScanResult& result,
                                      std::vector<int>& label,
                                      const std::function<bool(const ScanCluster&)>& unseen,
-                                     std::vector<char>& apart) {
+                                     const std::function<bool(const ScanCluster&, size_t)>& hangs,
+                                     const std::vector<int>& rises_from, std::vector<char>& apart) {
   const size_t n = result.clusters.size();
   if (n < 2 || params.part_margin_m <= 0) return {};
   std::vector<size_t> by_size(n);
@@ -1157,8 +1218,13 @@ std::vector<GrownObject> merge_parts(const ScanParams& params, ScanResult& resul
     for (size_t j = 0; j < k; ++j) {
       const ScanCluster& big = result.clusters[by_size[j]];
       if (big.shape.primitives.empty() || !(big.support == part.support)) continue;
-      if (mostly_inside(big.shape.primitives.front(), part.points, params.part_margin_m, params.part_share))
+      const ShapeFit& solid = big.shape.primitives.front();
+      if (mostly_inside(solid, part.points, params.part_margin_m, params.part_share)) {
         holds[k][j] = 1;
+      } else if (params.part_hang_reach_m > params.part_margin_m && hangs_beside(part, big) &&
+                 mostly_inside(solid, part.points, params.part_hang_reach_m, params.part_share)) {
+        holds[k][j] = hangs(part, by_size[j]);
+      }
     }
   });
   // Whether an object that would hold a part has its extent unseen (it then holds
@@ -1180,6 +1246,15 @@ std::vector<GrownObject> merge_parts(const ScanParams& params, ScanResult& resul
     }
     if (owner[by_size[k]] < 0 && in_unseen)
       for (int i : result.clusters[by_size[k]].pixels) apart[static_cast<size_t>(i)] = 1;
+  }
+  // A part rising from an object that is itself no part, when nothing is its part.
+  for (size_t c = 0; c < n && c < rises_from.size(); ++c) {
+    const int o = rises_from[c];
+    if (o < 0 || owner[c] >= 0 || owner[static_cast<size_t>(o)] >= 0 ||
+        std::find(owner.begin(), owner.end(), static_cast<int>(c)) != owner.end() ||
+        (params.unseen_hold_no_parts && unseen(result.clusters[static_cast<size_t>(o)])))
+      continue;
+    owner[c] = o;
   }
   // Each owner as it was, then its parts (kept to be given back: restore_spoiled).
   std::vector<GrownObject> grown_of(n);
@@ -1245,9 +1320,13 @@ std::vector<size_t> restore_spoiled(std::vector<GrownObject>& grown,
   return changed;
 }
 
-// Objects standing on another object's top are fitted on that top (stacking.h).
-void restack(ScanResult& result, std::vector<std::vector<Vec3>>& normals, const ScanParams& params) {
-  if (!params.stack_on_objects || result.clusters.size() < 2) return;
+// Objects standing on another object's top are fitted on that top (stacking.h). Returns
+// per cluster the object it rises from (a neck on its shoulder, to be merged as its
+// part), or -1.
+std::vector<int> restack(ScanResult& result, std::vector<std::vector<Vec3>>& normals,
+                         const ScanParams& params) {
+  std::vector<int> part_of(result.clusters.size(), -1);
+  if (!params.stack_on_objects || result.clusters.size() < 2) return part_of;
   // Stacks form on one support at a time: the objects standing on the same surface.
   std::vector<bool> done(result.clusters.size(), false);
   for (size_t first = 0; first < result.clusters.size(); ++first) {
@@ -1266,15 +1345,20 @@ void restack(ScanResult& result, std::vector<std::vector<Vec3>>& normals, const 
       objects[g].normals = std::move(normals[group[g]]);
       objects[g].shape = std::move(result.clusters[group[g]].shape);
     }
-    fit_stacked_objects(objects, support, params.shape);
+    NeckParams neck;
+    neck.min_slope_deg = params.neck_min_slope_deg;
+    neck.max_width_share = params.neck_max_width_share;
+    fit_stacked_objects(objects, support, params.shape, kStackBand_m, neck);
     for (size_t g = 0; g < group.size(); ++g) {
       result.clusters[group[g]].points = std::move(objects[g].points);
       normals[group[g]] = std::move(objects[g].normals);
       result.clusters[group[g]].shape = std::move(objects[g].shape);
       if (objects[g].rests_on >= 0)
         result.clusters[group[g]].on_object = static_cast<int>(group[objects[g].rests_on]);
+      if (objects[g].part_of >= 0) part_of[group[g]] = static_cast<int>(group[objects[g].part_of]);
     }
   }
+  return part_of;
 }
 
 }  // namespace
@@ -3404,7 +3488,7 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
     normals.push_back(std::move(cut.normals_b));
   }
   for (size_t c = 0; c < clusters.size(); ++c) clusters[c].pixels = result.clusters[c].pixels;
-  restack(result, normals, params);
+  const std::vector<int> rises_from = restack(result, normals, params);
   if (params.stack_on_objects) {
     // On a support that is another object's top (stacking.h): that object, by the id.
     std::vector<std::vector<int>> tops(ns);
@@ -3428,7 +3512,14 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
   std::vector<char> apart(f.points.size(), 0);
   std::vector<GrownObject> grown = merge_parts(
       params, result, label, [&](const ScanCluster& sc) { return cut_or_hidden(sc.pixels); },
-      apart);
+      [&](const ScanCluster& sc, size_t owner) {
+        // What stands on another object's top is held up by it.
+        const bool stands = std::any_of(stacked.begin(), stacked.end(), [&](const auto& s) {
+          return s.first == sc.pixels.front();
+        });
+        return !stands && hangs_from(f, sc, static_cast<int>(owner), label, params, stride);
+      },
+      rises_from, apart);
   // The grown objects fitted again (each on its own pixels: refit_part) beside what
   // joining occluded pieces reads (the label rebuilt, each object's piece): one pass of
   // independent items, the refits first (the longest).

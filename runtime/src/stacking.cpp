@@ -2,15 +2,99 @@
 #include "stacking.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
+#include <numbers>
 
 #include "quantile.h"
 
 namespace annex {
 
+namespace {
+
+// Points a sector of the ring needs for its slope to count.
+constexpr int kSectorMinPoints = 4;
+
+// Horizontal offset of p from the support's normal through `origin`.
+Vec3 across(Vec3 p, Vec3 origin, Vec3 n) {
+  const Vec3 v = p - origin;
+  return v - n * dot(n, v);
+}
+
+// Whether objects[u], whose foot is at height `base` over the support (normal n, offset
+// d) and which stands on objects[below], rises from a slope (NeckParams): over a ring
+// just beyond the foot's reach, the other objects' points (height against distance
+// from the foot's centre) run falling away from the foot at a shoulder's angle, between
+// min_slope_deg and max_slope_deg (their principal direction; the fall min_fall_t
+// standard errors clear of level), in two thirds of the
+// directions seen (sectors of the ring), at least two. A shoulder falls away all round;
+// a lid is level, and beyond a lid's edge the lower object's wall is upright. Every
+// other object's points count, not only the one below's: a shoulder may be clustered
+// apart from its bottle's body. And the foot is on the lower object's axis.
+bool rises_from_slope(const std::vector<StackedObject>& objects, size_t u, size_t below, Vec3 n,
+                      double d, double base, double band_m, const NeckParams& neck) {
+  std::vector<Vec3> foot;
+  for (const Vec3& p : objects[u].points)
+    if (dot(n, p) + d <= base + band_m / 3) foot.push_back(p);
+  if (foot.empty() || !(neck.max_width_share > 0) || objects[u].shape.primitives.empty())
+    return false;
+  // The foot's centre on the upper shape's axis (the centroid of the points seen lies
+  // towards the camera: a round foot shows its front half).
+  const Vec3 centre = objects[u].shape.primitives.front().primitive.center;
+  std::vector<double> reach, width;
+  for (const Vec3& p : foot) reach.push_back(norm(across(p, centre, n)));
+  for (const Vec3& p : objects[below].points) width.push_back(norm(across(p, centre, n)));
+  const double rho = quantile(reach, 0.9), wide = quantile(width, 0.9);
+  if (rho > neck.max_width_share * wide) return false;
+  // A neck rises on its body's axis (a stacked object stands anywhere on a top).
+  const PhysicalPrimitive& body = objects[below].shape.primitives.front().primitive;
+  if (norm(across(body.center, centre, n)) > neck.max_off_axis_share * wide) return false;
+  const double lo = rho + neck.ring_gap_m;
+  const double hi = lo + std::min(neck.ring_width_m, 0.5 * (wide - rho));
+  struct Sums {
+    double r = 0, h = 0, rr = 0, rh = 0, hh = 0;
+    int count = 0;
+  };
+  constexpr int kSectors = 8;
+  std::array<Sums, kSectors> sector{};
+  const Vec3 e1 = normalized(across(centre + Vec3{1, 0, 0}, centre, n)), e2 = cross(n, e1);
+  int count = 0;
+  for (size_t k = 0; k < objects.size(); ++k) {
+    if (k == u) continue;
+    for (const Vec3& p : objects[k].points) {
+      const Vec3 v = across(p, centre, n);
+      const double h = dot(n, p) + d, r = norm(v);
+      if (r < lo || r > hi || h < base - band_m) continue;
+      const double turn = std::atan2(dot(v, e2), dot(v, e1)) / (2 * std::numbers::pi) + 0.5;
+      Sums& s =
+          sector[static_cast<size_t>(std::min(kSectors - 1, static_cast<int>(turn * kSectors)))];
+      ++count, ++s.count, s.r += r, s.h += h, s.rr += r * r, s.rh += r * h, s.hh += h * h;
+    }
+  }
+  if (count < neck.ring_min_points) return false;
+  int seen = 0, falling = 0;
+  for (const Sums& s : sector) {
+    if (s.count < kSectorMinPoints) continue;
+    ++seen;
+    const double vr = s.rr - s.r * s.r / s.count, vh = s.hh - s.h * s.h / s.count;
+    const double c = s.rh - s.r * s.h / s.count;
+    // The principal direction's angle below the horizontal, away from the foot, and the
+    // least-squares fall (height on distance) over its standard error: beyond the noise.
+    const double fall_deg = -0.5 * std::atan2(2 * c, vr - vh) * 180 / std::numbers::pi;
+    const double slope = vr > 0 ? c / vr : 0;
+    const double residual = std::max(0.0, vh - slope * c) / std::max(1, s.count - 2);
+    const bool clear = vr > 0 && -slope > neck.min_fall_t * std::sqrt(residual / vr);
+    falling += clear && fall_deg > neck.min_slope_deg && fall_deg < neck.max_slope_deg;
+  }
+  return seen >= 2 && 3 * falling >= 2 * seen;
+}
+
+}  // namespace
+
 void fit_stacked_objects(std::vector<StackedObject>& objects, const Plane& support,
-                         const ShapeRecognizerParams& params, double band_m) {
+                         const ShapeRecognizerParams& params, double band_m,
+                         const NeckParams& neck) {
   const Vec3 n = normalized(support.normal);
   const double d = support.d / norm(support.normal);
   const size_t count = objects.size();
@@ -45,6 +129,10 @@ void fit_stacked_objects(std::vector<StackedObject>& objects, const Plane& suppo
       }
     }
     if (best < 0) continue;
+    if (rises_from_slope(objects, u, static_cast<size_t>(best), n, d, base[u], band_m, neck)) {
+      up.part_of = best;
+      continue;
+    }
     up.rests_on = best;
     // The lower object's top face as the plane: n.x + d - top = 0.
     const Plane face{n, d - top[best]};

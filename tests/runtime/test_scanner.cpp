@@ -319,10 +319,15 @@ TEST(ScanConfig, SampleFileHoldsTheDefaults) {
   EXPECT_EQ(p->cut_join_column_share, d.cut_join_column_share);
   EXPECT_EQ(p->part_margin_m, d.part_margin_m);
   EXPECT_EQ(p->part_share, d.part_share);
+  EXPECT_EQ(p->part_hang_reach_m, d.part_hang_reach_m);
+  EXPECT_EQ(p->neck_min_slope_deg, d.neck_min_slope_deg);
+  EXPECT_EQ(p->neck_max_width_share, d.neck_max_width_share);
   EXPECT_EQ(p->overhang_margin_m, d.overhang_margin_m);
   EXPECT_EQ(p->support_from_foot, d.support_from_foot);
   EXPECT_EQ(p->partial_when_seen_under, d.partial_when_seen_under);
   EXPECT_EQ(p->shape.min_coverage, d.shape.min_coverage);
+  EXPECT_EQ(p->shape.pair_min_secondary_share, d.shape.pair_min_secondary_share);
+  EXPECT_EQ(p->shape.pair_max_neck_share, d.shape.pair_max_neck_share);
   EXPECT_EQ(p->shape.max_fit_points, d.shape.max_fit_points);
   EXPECT_EQ(p->shape.box_azimuth_doubt_m, d.shape.box_azimuth_doubt_m);
   EXPECT_EQ(p->shape.refine_sample_points, d.shape.refine_sample_points);

@@ -61,6 +61,13 @@ struct ShapeRecognizerParams {
   // A secondary primitive must explain this share of the points the salient one misses
   // and at least this share of all points.
   double min_secondary_share = 0.12;
+  // Against a cone through the body and what is above it (a bottle far away, both
+  // explaining every point), a neck of this share is weighed: the information criterion
+  // over the residuals decides between the pair and the cone, not the neck's share.
+  double pair_min_secondary_share = 0.04;
+  // ... a neck: no wider than this share of the body's radius (a bowl's flared rim
+  // above the cylinder of its foot is no neck).
+  double pair_max_neck_share = 0.6;
   // Score penalty for a round side (cylinder, cone) when the side normals bunch into
   // flat faces, and for a box when they spread around like a round side.
   double side_shape_penalty = 0.1;

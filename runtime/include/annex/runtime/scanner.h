@@ -432,6 +432,19 @@ struct ScanParams {
   // handle): it joins that object, which is fitted again. 0 disables.
   double part_margin_m = 0.015;
   double part_share = 0.6;
+  // A piece seen hanging (the view passes under it, higher than anything of its own
+  // hidden there could hold it up) with part_share of its points within this of a bigger
+  // object's solid is part of it: a mug's handle, cut off its body at the crease where
+  // it meets the wall, floats beside it. 0 disables.
+  double part_hang_reach_m = 0.04;
+  // A part rising from an object's top is no object standing on it (stacking): the
+  // object's surface just beyond its foot falls away from it more steeply than
+  // `neck_min_slope_deg` (a bottle's neck on its shoulder; a lid is level to the noise),
+  // and it is at most `neck_max_width_share` of that object's width across its foot
+  // (one as wide has only the lower object's wall around it). It joins that object as
+  // its part. A share of 0 disables.
+  double neck_min_slope_deg = 20;
+  double neck_max_width_share = 0.6;
   // ... unless the bigger object's extent is unseen (cut by the image border, or hidden
   // in half: the partial flag's test): its primitive spans what is seen of it, not its
   // solid (a shelf's side and board edge as one box span the board and what stands on
