@@ -670,6 +670,10 @@ double height_sigma(const Samples& s, int i) {
                  : 0;
 }
 
+// A cylinder's cap reaches this share of its radius from the axis (90 % of its points
+// within): a lid or an open top spans the disc, a neck's cap need not.
+constexpr double kCapLeastSpread = 0.5;
+
 Candidate fit_cylinder(const Samples& s, const std::vector<int>& subset, double base,
                        const ShapeRecognizerParams& params, std::mt19937_64& rng) {
   Candidate c;
@@ -705,8 +709,10 @@ Candidate fit_cylinder(const Samples& s, const std::vector<int>& subset, double 
   c.cb = circle.y;
   c.r0 = c.r1 = circle.r;
   c.h0 = base;
-  // Top: highest side inliers or the cap (points inside the circle facing up).
-  std::vector<double> side_h, cap_h, cap_sigma, all_h;
+  // Top: highest side inliers or the cap (points inside the circle facing up). A cap
+  // high above the side (by two tolerances) on a small disc about the axis is a bottle's
+  // on its neck, no top of its body.
+  std::vector<double> side_h, cap_h, cap_sigma, cap_rho, cap_tol, all_h;
   for (int i : subset) {
     const double rho = len2(s.p[i].a - c.ca, s.p[i].b - c.cb);
     all_h.push_back(s.p[i].h);
@@ -714,10 +720,16 @@ Candidate fit_cylinder(const Samples& s, const std::vector<int>& subset, double 
     if (rho < c.r0 - s.tol[i] && (!s.has_normals || s.up[i] > 0.8)) {
       cap_h.push_back(s.p[i].h);
       cap_sigma.push_back(height_sigma(s, i));
+      cap_rho.push_back(rho);
+      cap_tol.push_back(s.tol[i]);
     }
   }
   double top = side_h.size() > 5 ? quantile(side_h, 0.98) : quantile(all_h, 0.98);
-  if (cap_h.size() > 10) {
+  const auto neck_cap = [&] {
+    return quantile(cap_rho, 0.9) < kCapLeastSpread * c.r0 &&
+           quantile(cap_h, 0.5) > top + 2 * quantile(cap_tol, 0.5);
+  };
+  if (cap_h.size() > 10 && !neck_cap()) {
     const double cap = quantile(cap_h, 0.5);
     top = std::max(top, cap);
     // A lid (its cap above the side's middle, not an open container's inner floor, and
@@ -1725,6 +1737,10 @@ int margin_paid_choice(const std::vector<SelectionEntry>& entries, double n, dou
   return std::max(0, least_criterion(entries, n, mean_tol2, saturated, false));
 }
 
+// A body that explains too little alone is weighed with its neck only when it explains
+// this share of the points itself.
+constexpr double kBodyLeastShare = 0.5;
+
 // Whether a body and its neck (a bottle's cylinder and the cone or cylinder above it)
 // explain the points closer than one cone through both, by the information criterion
 // (least_criterion) over n independent points: each point's residual to the nearer of
@@ -2373,6 +2389,11 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     fit.primitive.fit = fit.coverage;
     return fit;
   };
+  // A neck narrows to a share of the body (a bowl's flared rim above the cylinder of its
+  // foot is no neck).
+  auto narrow_neck = [&](const Secondary& second, const Candidate& body) {
+    return std::min(second.neck.r0, second.neck.r1) <= params.pair_max_neck_share * body.r0;
+  };
   auto secondary = [&](const Candidate& body) -> std::optional<ShapeFit> {
     const std::optional<Secondary> second = secondary_candidate(body, params.min_secondary_share);
     if (!second) return std::nullopt;
@@ -2396,10 +2417,8 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
       const bool covers_more = std::min(1.0, cands[0].coverage + neck_fit.coverage) >
                                cands[best].coverage + 2 * params.complexity_margin;
       const double saturated = 1 - params.complexity_margin;
-      const bool narrow =
-          std::max(neck->neck.r0, neck->neck.r1) <= params.pair_max_neck_share * cands[0].r0;
       const auto explains_closer = [&] {
-        if (!narrow) return false;
+        if (!narrow_neck(*neck, cands[0])) return false;
         if (independent.value < 0) independent.value = independent_points(s, params.focal_px);
         return pair_over_cone(s, cands[0], neck->neck, cands[best], independent.value, tol2,
                               saturated);
@@ -2410,7 +2429,23 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
       }
     }
   }
-  if (best < 0 || cands[best].coverage < params.min_coverage) {
+  // A bottle's body alone may explain too little (its shoulder and neck a third of its
+  // height or more): the body with a narrow neck is the shape when the two together
+  // cover min_coverage and the body half of the points.
+  bool with_neck_covers = false;
+  if ((best < 0 || cands[best].coverage < params.min_coverage) && cands[0].valid &&
+      cands[0].model == Model::cylinder && cands[0].coverage >= kBodyLeastShare) {
+    const std::optional<Secondary> neck = secondary_candidate(cands[0], params.min_secondary_share);
+    if (neck && narrow_neck(*neck, cands[0])) {
+      const ShapeFit neck_fit = secondary_fit(*neck);
+      if (cands[0].coverage + neck_fit.coverage >= params.min_coverage) {
+        best = 0;
+        second = neck_fit;
+        with_neck_covers = true;
+      }
+    }
+  }
+  if (!with_neck_covers && (best < 0 || cands[best].coverage < params.min_coverage)) {
     const ShapeFit tilted = fit_oriented_box(s, params);
     if (!tilted.primitive.dimensions_m.empty()) {
       out.candidates.push_back(tilted);

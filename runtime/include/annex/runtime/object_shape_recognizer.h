@@ -65,8 +65,10 @@ struct ShapeRecognizerParams {
   // explaining every point), a neck of this share is weighed: the information criterion
   // over the residuals decides between the pair and the cone, not the neck's share.
   double pair_min_secondary_share = 0.04;
-  // ... a neck: no wider than this share of the body's radius (a bowl's flared rim
-  // above the cylinder of its foot is no neck).
+  // ... a neck: narrowing to this share of the body's radius or less (a bowl's flared
+  // rim above the cylinder of its foot is no neck). Also when the body alone explains
+  // too little (under min_coverage, at least half the points) and the two together
+  // enough: a bottle whose shoulder and neck are a third of its height or more.
   double pair_max_neck_share = 0.6;
   // Score penalty for a round side (cylinder, cone) when the side normals bunch into
   // flat faces, and for a box when they spread around like a round side.
