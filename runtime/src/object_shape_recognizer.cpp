@@ -670,8 +670,8 @@ double height_sigma(const Samples& s, int i) {
                  : 0;
 }
 
-// A cylinder's cap reaches this share of its radius from the axis (90 % of its points
-// within): a lid or an open top spans the disc, a neck's cap need not.
+// A lid or an open top spans its cylinder's disc; a cap whose points (90 % of them) lie
+// within this share of the radius of the axis is a small disc (fit_cylinder).
 constexpr double kCapLeastSpread = 0.5;
 
 Candidate fit_cylinder(const Samples& s, const std::vector<int>& subset, double base,
@@ -2407,15 +2407,16 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   // cone explaining every point keeps it (fresh rooms 9882: a bowl 2.4 m away, its
   // cylinder 86 % and its rim as a "neck" 23 %, against the cone's 100 %).
   // Far away both cover every point (the tolerance grows with the noise): the residuals
-  // decide, by the information criterion over the two (pair_or_cone).
+  // decide, by the information criterion over the two (pair_over_cone).
   if (best >= 0 && cands[best].model == Model::cone && cands[0].valid &&
       cands[0].model == Model::cylinder) {
     const std::optional<Secondary> neck =
         secondary_candidate(cands[0], params.pair_min_secondary_share);
     if (neck) {
       const ShapeFit neck_fit = secondary_fit(*neck);
-      const bool covers_more = std::min(1.0, cands[0].coverage + neck_fit.coverage) >
-                               cands[best].coverage + 2 * params.complexity_margin;
+      const bool covers_more = neck->share >= params.min_secondary_share &&
+                               std::min(1.0, cands[0].coverage + neck_fit.coverage) >
+                                   cands[best].coverage + 2 * params.complexity_margin;
       const double saturated = 1 - params.complexity_margin;
       const auto explains_closer = [&] {
         if (!narrow_neck(*neck, cands[0])) return false;

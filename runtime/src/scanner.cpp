@@ -1162,6 +1162,17 @@ bool hangs_from(const Frame& f, const ScanCluster& sc, int owner, const std::vec
   return ends.size() >= 3 && 2 * static_cast<size_t>(under) > ends.size();
 }
 
+// Whether a piece's lowest point lies a third of the stacking band below the top of a
+// bigger object: beside it, as a handle, not on its top, as what stands there.
+bool hangs_beside(const ScanCluster& part, const ScanCluster& big) {
+  const Vec3 n = part.support.normal;
+  const double d = part.support.d;
+  double low = 1e9, top = -1e9;
+  for (const Vec3& p : part.points) low = std::min(low, dot(n, p) + d);
+  for (const Vec3& p : big.points) top = std::max(top, dot(n, p) + d);
+  return low < top - kStackBand_m / 3;
+}
+
 // An object that took parts (merge_parts): its index after the merge, itself before it,
 // and the parts it took.
 struct GrownObject {
@@ -1180,22 +1191,11 @@ struct GrownObject {
 // solid (a shelf's side and board edge cut by the border, fitted as one box, span the
 // board and what stands on it). What lies in such an object and in no other is kept
 // apart, its pixels marked in `apart` (a piece of the cut object, or an object of its
-// own: no one can tell).
-// Whether a piece's lowest point lies a third of the stacking band below the top of a
-// bigger object: beside it, as a handle, not on its top, as what stands there.
-bool hangs_beside(const ScanCluster& part, const ScanCluster& big) {
-  const Vec3 n = part.support.normal;
-  const double d = part.support.d;
-  double low = 1e9, top = -1e9;
-  for (const Vec3& p : part.points) low = std::min(low, dot(n, p) + d);
-  for (const Vec3& p : big.points) top = std::max(top, dot(n, p) + d);
-  return low < top - kStackBand_m / 3;
-}
-
-// A piece hanging from an object (`hangs(piece, object)`: nothing of its own holds it
-// up), beside it (hangs_beside), whose solid grown by part_hang_reach_m holds it is a
-// part of it (a mug's handle cut off at the crease where it meets the wall). `rises_from`: per
-// cluster the object it rises from (restack), -1 none: its part too.
+// own: no one can tell). A piece hanging from an object (`hangs(piece, object)`: nothing
+// of its own holds it up), beside it (hangs_beside), whose solid grown by
+// part_hang_reach_m holds it is a part of it too (a mug's handle cut off at the crease
+// where it meets the wall), and so is what rises from an object (`rises_from`, per
+// cluster: restack; -1 none).
 std::vector<GrownObject> merge_parts(const ScanParams& params, ScanResult& result,
                                      std::vector<int>& label,
                                      const std::function<bool(const ScanCluster&)>& unseen,

@@ -13,7 +13,9 @@ namespace annex {
 
 namespace {
 
-// Points a sector of the ring needs for its slope to count.
+// The ring round a foot is read in this many directions (sectors), each needing
+// kSectorMinPoints points for its fall to count.
+constexpr int kSectors = 8;
 constexpr int kSectorMinPoints = 4;
 
 // Horizontal offset of p from the support's normal through `origin`.
@@ -22,16 +24,57 @@ Vec3 across(Vec3 p, Vec3 origin, Vec3 n) {
   return v - n * dot(n, v);
 }
 
+// Sums of the distances r from a foot's centre and the heights h of the points in one
+// sector of the ring round it.
+struct RingSums {
+  double r = 0, h = 0, rr = 0, rh = 0, hh = 0;
+  int count = 0;
+};
+
+// The ring from lo to hi metres round `centre` (horizontally), heights from `floor_h`
+// up, per sector: every object's points but objects[u]'s.
+std::array<RingSums, kSectors> ring_sectors(const std::vector<StackedObject>& objects, size_t u,
+                                            Vec3 centre, Vec3 n, double d, double lo, double hi,
+                                            double floor_h) {
+  std::array<RingSums, kSectors> sector{};
+  const Vec3 e1 = normalized(across(centre + Vec3{1, 0, 0}, centre, n)), e2 = cross(n, e1);
+  for (size_t k = 0; k < objects.size(); ++k) {
+    if (k == u) continue;
+    for (const Vec3& p : objects[k].points) {
+      const Vec3 v = across(p, centre, n);
+      const double h = dot(n, p) + d, r = norm(v);
+      if (r < lo || r > hi || h < floor_h) continue;
+      const double turn = std::atan2(dot(v, e2), dot(v, e1)) / (2 * std::numbers::pi) + 0.5;
+      RingSums& s =
+          sector[static_cast<size_t>(std::min(kSectors - 1, static_cast<int>(turn * kSectors)))];
+      ++s.count, s.r += r, s.h += h, s.rr += r * r, s.rh += r * h, s.hh += h * h;
+    }
+  }
+  return sector;
+}
+
+// Whether a sector's points fall away from the foot at a shoulder's angle: their
+// principal direction between min_slope_deg and max_slope_deg below level, and their
+// least-squares fall (height on distance) min_fall_t standard errors clear of level.
+bool falls_away(const RingSums& s, const NeckParams& neck) {
+  const double vr = s.rr - s.r * s.r / s.count, vh = s.hh - s.h * s.h / s.count;
+  const double c = s.rh - s.r * s.h / s.count;
+  if (!(vr > 0)) return false;
+  const double fall_deg = -0.5 * std::atan2(2 * c, vr - vh) * 180 / std::numbers::pi;
+  const double slope = c / vr;
+  const double residual = std::max(0.0, vh - slope * c) / std::max(1, s.count - 2);
+  return -slope > neck.min_fall_t * std::sqrt(residual / vr) && fall_deg > neck.min_slope_deg &&
+         fall_deg < neck.max_slope_deg;
+}
+
 // Whether objects[u], whose foot is at height `base` over the support (normal n, offset
-// d) and which stands on objects[below], rises from a slope (NeckParams): over a ring
-// just beyond the foot's reach, the other objects' points (height against distance
-// from the foot's centre) run falling away from the foot at a shoulder's angle, between
-// min_slope_deg and max_slope_deg (their principal direction; the fall min_fall_t
-// standard errors clear of level), in two thirds of the
-// directions seen (sectors of the ring), at least two. A shoulder falls away all round;
-// a lid is level, and beyond a lid's edge the lower object's wall is upright. Every
-// other object's points count, not only the one below's: a shoulder may be clustered
-// apart from its bottle's body. And the foot is on the lower object's axis.
+// d) and which stands on objects[below], rises from a slope (NeckParams): it is narrow
+// against the lower object and stands on its axis, and over a ring just beyond its
+// foot's reach the other objects' points fall away from it (falls_away) in two thirds
+// of the directions seen, at least two. A shoulder falls away all round; a lid is level,
+// and beyond a lid's edge the lower object's wall is upright. Every other object's
+// points count, not only the one below's: a shoulder may be clustered apart from its
+// bottle's body.
 bool rises_from_slope(const std::vector<StackedObject>& objects, size_t u, size_t below, Vec3 n,
                       double d, double base, double band_m, const NeckParams& neck) {
   std::vector<Vec3> foot;
@@ -52,42 +95,16 @@ bool rises_from_slope(const std::vector<StackedObject>& objects, size_t u, size_
   if (norm(across(body.center, centre, n)) > neck.max_off_axis_share * wide) return false;
   const double lo = rho + neck.ring_gap_m;
   const double hi = lo + std::min(neck.ring_width_m, 0.5 * (wide - rho));
-  struct Sums {
-    double r = 0, h = 0, rr = 0, rh = 0, hh = 0;
-    int count = 0;
-  };
-  constexpr int kSectors = 8;
-  std::array<Sums, kSectors> sector{};
-  const Vec3 e1 = normalized(across(centre + Vec3{1, 0, 0}, centre, n)), e2 = cross(n, e1);
-  int count = 0;
-  for (size_t k = 0; k < objects.size(); ++k) {
-    if (k == u) continue;
-    for (const Vec3& p : objects[k].points) {
-      const Vec3 v = across(p, centre, n);
-      const double h = dot(n, p) + d, r = norm(v);
-      if (r < lo || r > hi || h < base - band_m) continue;
-      const double turn = std::atan2(dot(v, e2), dot(v, e1)) / (2 * std::numbers::pi) + 0.5;
-      Sums& s =
-          sector[static_cast<size_t>(std::min(kSectors - 1, static_cast<int>(turn * kSectors)))];
-      ++count, ++s.count, s.r += r, s.h += h, s.rr += r * r, s.rh += r * h, s.hh += h * h;
-    }
-  }
-  if (count < neck.ring_min_points) return false;
-  int seen = 0, falling = 0;
-  for (const Sums& s : sector) {
+  const std::array<RingSums, kSectors> sector =
+      ring_sectors(objects, u, centre, n, d, lo, hi, base - band_m);
+  int count = 0, seen = 0, falling = 0;
+  for (const RingSums& s : sector) {
+    count += s.count;
     if (s.count < kSectorMinPoints) continue;
     ++seen;
-    const double vr = s.rr - s.r * s.r / s.count, vh = s.hh - s.h * s.h / s.count;
-    const double c = s.rh - s.r * s.h / s.count;
-    // The principal direction's angle below the horizontal, away from the foot, and the
-    // least-squares fall (height on distance) over its standard error: beyond the noise.
-    const double fall_deg = -0.5 * std::atan2(2 * c, vr - vh) * 180 / std::numbers::pi;
-    const double slope = vr > 0 ? c / vr : 0;
-    const double residual = std::max(0.0, vh - slope * c) / std::max(1, s.count - 2);
-    const bool clear = vr > 0 && -slope > neck.min_fall_t * std::sqrt(residual / vr);
-    falling += clear && fall_deg > neck.min_slope_deg && fall_deg < neck.max_slope_deg;
+    falling += falls_away(s, neck);
   }
-  return seen >= 2 && 3 * falling >= 2 * seen;
+  return count >= neck.ring_min_points && seen >= 2 && 3 * falling >= 2 * seen;
 }
 
 }  // namespace

@@ -629,22 +629,36 @@ TEST(ScannerRooms, MugsAndBottlesAreOneObjectEach) {
   EXPECT_GE(round * 10, objects * 9);
 }
 
+// A room whose every cylinder is everyday, rendered, and the index of its bottle lo to
+// hi metres from the camera (-1 none).
+struct BottleRoom {
+  SyntheticScene scene;
+  SyntheticFrame frame;
+  int bottle = -1;
+};
+BottleRoom bottle_room(std::uint64_t seed, double lo_m, double hi_m) {
+  SyntheticSceneParams p = room_scene_params(seed);
+  p.everyday_share = 1;
+  BottleRoom r{room(p), {}, -1};
+  r.frame = render_scene(r.scene);
+  for (std::size_t i = 0; i < r.scene.objects.size(); ++i) {
+    const SyntheticObject& o = r.scene.objects[i];
+    const double range = norm(r.frame.truth.objects[i].primitives[0].center);
+    if (o.details.size() == 3 && o.details[0].kind == ShapeKind::cone && range > lo_m &&
+        range < hi_m)
+      r.bottle = static_cast<int>(i);
+  }
+  return r;
+}
+
 // A bottle 1.95 m away (rooms 12014, every cylinder everyday): one cone through its body
 // and neck explains every point within the noise, as the body's cylinder and its neck do
 // together; the residuals, weighed by the information criterion, make it a cylinder with
 // its neck (pair_min_secondary_share). Without that weighing, a cone.
 TEST(ScannerRooms, AFarBottleIsABodyAndANeckNotOneCone) {
-  SyntheticSceneParams p = room_scene_params(12014);
-  p.everyday_share = 1;
-  const SyntheticScene s = room(p);
-  const SyntheticFrame f = render_scene(s);
-  int bottle = -1;
-  for (std::size_t i = 0; i < s.objects.size(); ++i) {
-    const double range = norm(f.truth.objects[i].primitives[0].center);
-    if (s.objects[i].details.size() == 3 && s.objects[i].details[0].kind == ShapeKind::cone &&
-        range > 1.9 && range < 2.0)
-      bottle = static_cast<int>(i);
-  }
+  const BottleRoom r = bottle_room(12014, 1.9, 2.0);
+  const SyntheticFrame& f = r.frame;
+  const int bottle = r.bottle;
   ASSERT_GE(bottle, 0);
   const auto shape = [&](const ScanParams& params) {
     const Result<ScanResult> scan = scan_frame(f.frame, params);
@@ -669,17 +683,9 @@ TEST(ScannerRooms, AFarBottleIsABodyAndANeckNotOneCone) {
 // height ends at the shoulder: the bottle's cap, high above the side on a small disc
 // about the axis, is no top of the body.
 TEST(ScannerRooms, ABottleWhoseBodyExplainsTooLittleIsItsBodyAndNeck) {
-  SyntheticSceneParams p = room_scene_params(12029);
-  p.everyday_share = 1;
-  const SyntheticScene s = room(p);
-  const SyntheticFrame f = render_scene(s);
-  int bottle = -1;
-  for (std::size_t i = 0; i < s.objects.size(); ++i) {
-    const double range = norm(f.truth.objects[i].primitives[0].center);
-    if (s.objects[i].details.size() == 3 && s.objects[i].details[0].kind == ShapeKind::cone &&
-        range > 1.2 && range < 1.3)
-      bottle = static_cast<int>(i);
-  }
+  const BottleRoom r = bottle_room(12029, 1.2, 1.3);
+  const SyntheticFrame& f = r.frame;
+  const int bottle = r.bottle;
   ASSERT_GE(bottle, 0);
   const Result<ScanResult> scan = scan_frame(f.frame);
   ASSERT_TRUE(scan.ok());
