@@ -796,17 +796,22 @@ double handle_yaw(const SyntheticScene& s, std::size_t k, std::mt19937_64& rng) 
   return away_deg + uniform(rng, -60, 60);
 }
 
+// The body of an upright cylinder or cone made `height` tall, its foot where it was.
+void set_body_height(SyntheticObject& o, double height) {
+  const double base = o.center.z - 0.5 * o.dimensions_m[1];
+  o.dimensions_m[1] = height;
+  o.center.z = base + 0.5 * height;
+}
+
 // A cylinder made a bottle of the same height: a body of 55-75 % of it, a shoulder
-// narrowing to the neck, the neck and a cap 3 mm wider. Too short for one (15 cm), a mug.
+// narrowing to the neck, the neck and a cap 3 mm wider.
 void make_bottle(SyntheticObject& o, std::mt19937_64& rng) {
   const double r = o.dimensions_m[0], total = o.dimensions_m[1];
-  const double base = o.center.z - 0.5 * total;
   const double body = total * uniform(rng, 0.55, 0.75), shoulder = total * uniform(rng, 0.06, 0.15);
   const double neck_r = std::min(uniform(rng, 0.011, 0.018), 0.5 * r),
                cap = uniform(rng, 0.015, 0.02);
   const double neck = total - body - shoulder - cap;
-  o.dimensions_m[1] = body;
-  o.center.z = base + 0.5 * body;
+  set_body_height(o, body);
   const double top = 0.5 * body;
   o.details.push_back({ShapeKind::cone, {r, shoulder}, neck_r, {0, 0, top + 0.5 * shoulder}});
   o.details.push_back(
@@ -839,10 +844,9 @@ void add_everyday_objects(const SyntheticSceneParams& params, SyntheticScene& s)
           o, h, [=](double z) { return narrow + (r - narrow) * (z / h + 0.5); }, rng);
     } else if (uniform(rng, 0, 1) < 0.5 && h >= 0.15) {
       make_bottle(o, rng);
-    } else {
-      const double base = o.center.z - 0.5 * h, mug = uniform(rng, 0.07, 0.12);
-      o.dimensions_m[1] = mug;
-      o.center.z = base + 0.5 * mug;
+    } else {  // a mug (a cylinder too short for a bottle too)
+      const double mug = uniform(rng, 0.07, 0.12);
+      set_body_height(o, mug);
       o.yaw_deg = handle_yaw(s, k, rng);
       add_handle(
           o, mug, [=](double) { return r; }, rng);

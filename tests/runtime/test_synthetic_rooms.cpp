@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <string>
 #include <utility>
@@ -48,6 +49,14 @@ SyntheticScene room(const SyntheticSceneParams& p) {
   const Result<SyntheticScene> s = generate_scene(p);
   EXPECT_TRUE(s.ok()) << "seed " << p.seed << ": " << (s.ok() ? "" : s.error().format());
   return s.ok() ? *s : SyntheticScene{};
+}
+
+// A room with a feature and the same room without it (`off` turns the feature off).
+std::pair<SyntheticScene, SyntheticScene> with_and_without(
+    SyntheticSceneParams p, const std::function<void(SyntheticSceneParams&)>& off) {
+  SyntheticScene with = room(p);
+  off(p);
+  return {std::move(with), room(p)};
 }
 
 int count_label(const SyntheticFrame& f, int label) {
@@ -175,9 +184,8 @@ TEST(SyntheticRooms, ShelfObjectsLeaveTheRestOfTheRoomAsItWas) {
   for (std::uint64_t seed = 6001; seed <= 6010; ++seed) {
     SyntheticSceneParams p = room_scene_params(seed);
     p.shelf_chance = 1;
-    const SyntheticScene with = room(p);
-    p.shelf_objects = 0;
-    const SyntheticScene without = room(p);
+    const auto scenes = with_and_without(p, [](auto& q) { q.shelf_objects = 0; });
+    const SyntheticScene &with = scenes.first, &without = scenes.second;
     ASSERT_GE(with.objects.size(), without.objects.size());
     EXPECT_EQ(with.camera_position.x, without.camera_position.x);
     EXPECT_EQ(with.furniture.size(), without.furniture.size());
@@ -203,10 +211,10 @@ TEST(SyntheticRooms, ShelfObjectsLeaveTheRestOfTheRoomAsItWas) {
 TEST(SyntheticRooms, RoomExtrasLeaveTheRestOfTheRoomAsItWas) {
   std::map<int, int> shown;
   for (std::uint64_t seed = 6001; seed <= 6020; ++seed) {
-    SyntheticSceneParams p = room_scene_params(seed);
-    const SyntheticScene with = room(p);
-    p.back_chair_chance = p.cabinet_chance = p.pole_chance = 0;
-    const SyntheticScene without = room(p);
+    const auto scenes = with_and_without(room_scene_params(seed), [](auto& q) {
+      q.back_chair_chance = q.cabinet_chance = q.pole_chance = 0;
+    });
+    const SyntheticScene &with = scenes.first, &without = scenes.second;
     ASSERT_EQ(with.objects.size(), without.objects.size()) << "seed " << seed;
     ASSERT_GE(with.furniture.size(), without.furniture.size());
     for (std::size_t k = 0; k < without.furniture.size(); ++k)
@@ -375,9 +383,8 @@ TEST(SyntheticRooms, StackedObjectsStandOnTheTopOfTheObjectUnderThem) {
   for (std::uint64_t seed = 6001; seed <= 6010; ++seed) {
     SyntheticSceneParams p = room_scene_params(seed);
     p.stacked_share = 1;
-    const SyntheticScene with = room(p);
-    p.stacked_share = 0;
-    const SyntheticScene without = room(p);
+    const auto scenes = with_and_without(p, [](auto& q) { q.stacked_share = 0; });
+    const SyntheticScene &with = scenes.first, &without = scenes.second;
     ASSERT_GE(with.objects.size(), without.objects.size());
     for (std::size_t i = 0; i < without.objects.size(); ++i) {
       EXPECT_EQ(with.objects[i].center.x, without.objects[i].center.x) << "seed " << seed;
@@ -418,9 +425,8 @@ TEST(SyntheticRooms, EverydayObjectsCarryHandlesOrNecksTheirTruthIsTheBody) {
   for (std::uint64_t seed = 6001; seed <= 6012; ++seed) {
     SyntheticSceneParams p = room_scene_params(seed);
     p.everyday_share = 1;
-    const SyntheticScene with = room(p);
-    p.everyday_share = 0;
-    const SyntheticScene without = room(p);
+    const auto scenes = with_and_without(p, [](auto& q) { q.everyday_share = 0; });
+    const SyntheticScene &with = scenes.first, &without = scenes.second;
     ASSERT_EQ(with.objects.size(), without.objects.size());
     const SyntheticFrame f = render_scene(with, exact());
     const SyntheticFrame plain = render_scene(without, exact());
