@@ -804,12 +804,16 @@ void set_body_height(SyntheticObject& o, double height) {
 }
 
 // A cylinder made a bottle of the same height: a body of 55-75 % of it, a shoulder
-// narrowing to the neck, the neck and a cap 3 mm wider.
+// narrowing to the neck, the neck (2 cm at least: the body gives way) and a cap 3 mm
+// wider.
 void make_bottle(SyntheticObject& o, std::mt19937_64& rng) {
+  constexpr double kLeastNeck_m = 0.02;
   const double r = o.dimensions_m[0], total = o.dimensions_m[1];
-  const double body = total * uniform(rng, 0.55, 0.75), shoulder = total * uniform(rng, 0.06, 0.15);
+  const double drawn = total * uniform(rng, 0.55, 0.75),
+               shoulder = total * uniform(rng, 0.06, 0.15);
   const double neck_r = std::min(uniform(rng, 0.011, 0.018), 0.5 * r),
                cap = uniform(rng, 0.015, 0.02);
+  const double body = std::min(drawn, total - shoulder - cap - kLeastNeck_m);
   const double neck = total - body - shoulder - cap;
   set_body_height(o, body);
   const double top = 0.5 * body;

@@ -450,6 +450,7 @@ TEST(SyntheticRooms, EverydayObjectsCarryHandlesOrNecksTheirTruthIsTheBody) {
         EXPECT_NEAR(o.center.z + cap.offset.z + 0.5 * cap.dimensions_m[1],
                     was.center.z + 0.5 * was.dimensions_m[1], 1e-9);
         EXPECT_LT(o.details[1].dimensions_m[0], 0.5 * d[0] + 1e-9);  // a neck, not a tin
+        EXPECT_GE(o.details[1].dimensions_m[1], 0.02 - 1e-9) << "seed " << seed;  // a neck at all
       } else {
         ++mugs;
         ASSERT_EQ(o.details.size(), 3u);
