@@ -487,60 +487,109 @@ Circle circle_through(const std::array<double, 2>& p1, const std::array<double, 
   return {p1[0] + ux, p1[1] + uy, len2(ux, uy), true};
 }
 
-// RANSAC circle (seeded) followed by a geometric refinement on its inliers; handles,
-// caps and neighbours' stray points are outliers.
+// Every third point of a circle fit, kept in arrays of their own: each circle's
+// residuals are one packed pass (Eigen's sqrt and division per element, the same values
+// as len2). `width` is each point's: its tolerance, or less (robust_circle).
+struct CirclePoints {
+  Eigen::ArrayXd a, b, width;
+  mutable Eigen::ArrayXd e;  // scratch for each circle's residuals
+
+  CirclePoints(const std::vector<std::array<double, 2>>& q, const std::vector<double>& tol) {
+    const Eigen::Index n = static_cast<Eigen::Index>((q.size() + 2) / 3);
+    a.resize(n);
+    b.resize(n);
+    width.resize(n);
+    e.resize(n);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      a[j] = q[static_cast<size_t>(3 * j)][0];
+      b[j] = q[static_cast<size_t>(3 * j)][1];
+      width[j] = tol[static_cast<size_t>(3 * j)];
+    }
+  }
+
+  // Each point within its width adds 1 - (residual / width)^2: packed (0 outside, adding
+  // +0 leaves the sum as it is), then summed one at a time in the points' order.
+  double score(const Circle& c) const {
+    e = (((a - c.x).square() + (b - c.y).square()).sqrt() - c.r) / width;
+    e = (e.abs() < 1).select(1 - e.square(), 0.0);
+    double sum = 0;
+    for (Eigen::Index j = 0; j < e.size(); ++j) sum += e[j];
+    return sum;
+  }
+
+  // The median of the absolute residuals about `c`.
+  double median_residual(const Circle& c) const {
+    e = (((a - c.x).square() + (b - c.y).square()).sqrt() - c.r).abs();
+    return quantile(std::vector<double>(e.data(), e.data() + e.size()), 0.5);
+  }
+};
+
+// The scatter no circle's consensus is asked below: a scatter of zero (points laid on a
+// circle) would leave a circle no width for rounding.
+constexpr double kCircleLeastScatterM = 0.0005;
+
+// The points' own scatter about their circle: the least median absolute residual among
+// `circles`, as a sigma (Rousseeuw's least-median-of-squares scale: 1.4826 times it, and
+// 1 + 5 / (n - 3) for the n points' few: the least of many medians runs low).
+double least_median_scatter(const CirclePoints& pts, const std::vector<Circle>& circles) {
+  double least = std::numeric_limits<double>::infinity();
+  for (const Circle& c : circles) least = std::min(least, pts.median_residual(c));
+  const double n = static_cast<double>(pts.a.size());
+  return std::max(kCircleLeastScatterM, 1.4826 * (1 + 5 / std::max(1.0, n - 3)) * least);
+}
+
+// RANSAC circle (seeded; the algebraic circle through all points drawn too) followed by
+// a geometric refinement on its inliers; handles, caps and neighbours' stray points are
+// outliers. With ShapeRecognizerParams::circle_own_scatter each point's width is at most
+// noise_factor times the points' own scatter (least_median_scatter), and the inliers are
+// chosen again about the refined circle and refined once more.
 Circle robust_circle(const std::vector<std::array<double, 2>>& q, const std::vector<double>& tol,
                      const ShapeRecognizerParams& params, std::mt19937_64& rng) {
   if (q.size() < 8) return {};
   std::uniform_int_distribution<size_t> pick(0, q.size() - 1);
-  Circle best;
-  double best_score = -1;
-  // Every third point scores the draws, kept in arrays of their own: each draw's
-  // residuals are one packed pass (Eigen's sqrt and division per element, the same
-  // values as len2), then summed in the points' order as before.
-  const Eigen::Index scored = static_cast<Eigen::Index>((q.size() + 2) / 3);
-  Eigen::ArrayXd qa(scored), qb(scored), qt(scored), e(scored);
-  for (Eigen::Index j = 0; j < scored; ++j) {
-    qa[j] = q[static_cast<size_t>(3 * j)][0];
-    qb[j] = q[static_cast<size_t>(3 * j)][1];
-    qt[j] = tol[static_cast<size_t>(3 * j)];
-  }
+  const auto sane = [&](const Circle& c) {
+    return c.ok && c.r >= params.min_radius_m && c.r <= params.max_radius_m;
+  };
+  std::vector<Circle> drawn;
   for (int it = 0; it < 60; ++it) {
     const Circle c = circle_through(q[pick(rng)], q[pick(rng)], q[pick(rng)]);
-    if (!c.ok || c.r < params.min_radius_m || c.r > params.max_radius_m) continue;
-    e = (((qa - c.x).square() + (qb - c.y).square()).sqrt() - c.r) / qt;
-    // Each point's term packed too (0 outside the tolerance: adding +0 to the sum, never
-    // negative, leaves it as it is), then summed one at a time in the points' order.
-    e = (e.abs() < 1).select(1 - e.square(), 0.0);
-    double score = 0;
-    for (Eigen::Index j = 0; j < scored; ++j) score += e[j];
+    if (sane(c)) drawn.push_back(c);
+  }
+  const Circle k = kasa_circle(q);
+  if (k.ok && k.r > params.min_radius_m && k.r < params.max_radius_m) drawn.push_back(k);
+  if (drawn.empty()) return {};
+  CirclePoints pts(q, tol);
+  std::vector<double> width = tol;
+  if (params.circle_own_scatter) {
+    const double most = params.noise_factor * least_median_scatter(pts, drawn);
+    pts.width = pts.width.min(most);
+    for (double& w : width) w = std::min(w, most);
+  }
+  Circle best;
+  double best_score = -1;
+  for (const Circle& c : drawn) {
+    const double score = pts.score(c);
     if (score > best_score) {
       best_score = score;
       best = c;
     }
   }
-  const Circle k = kasa_circle(q);
-  if (k.ok && k.r > params.min_radius_m && k.r < params.max_radius_m) {
-    double score = 0;
-    for (size_t i = 0; i < q.size(); i += 2) {
-      const double e = (len2(q[i][0] - k.x, q[i][1] - k.y) - k.r) / tol[i];
-      if (std::abs(e) < 1) score += 1 - e * e;
-    }
-    if (score > best_score) best = k;
-  }
-  if (!best.ok) return {};
-  std::vector<std::array<double, 2>> in;
-  std::vector<double> in_tol;
-  for (size_t i = 0; i < q.size(); ++i)
-    if (std::abs(len2(q[i][0] - best.x, q[i][1] - best.y) - best.r) < 2.5 * tol[i]) {
-      in.push_back(q[i]);
-      in_tol.push_back(tol[i]);
-    }
   std::array<double, 3> x{best.x, best.y, best.r};
-  refine_analytic<3>(x, static_cast<int>(in.size()), in_tol,
-                     [&](const std::array<double, 3>& p, int i, shape_residuals::Gradient<3>* g) {
-                       return shape_residuals::circle(p, in[i][0], in[i][1], g);
-                     });
+  std::vector<std::array<double, 2>> in;
+  std::vector<double> in_width;
+  for (int round = 0; round < (params.circle_own_scatter ? 2 : 1); ++round) {
+    in.clear();
+    in_width.clear();
+    for (size_t i = 0; i < q.size(); ++i)
+      if (std::abs(len2(q[i][0] - x[0], q[i][1] - x[1]) - std::abs(x[2])) < 2.5 * width[i]) {
+        in.push_back(q[i]);
+        in_width.push_back(width[i]);
+      }
+    refine_analytic<3>(x, static_cast<int>(in.size()), in_width,
+                       [&](const std::array<double, 3>& p, int i, shape_residuals::Gradient<3>* g) {
+                         return shape_residuals::circle(p, in[i][0], in[i][1], g);
+                       });
+  }
   return {x[0], x[1], std::abs(x[2]), true};
 }
 

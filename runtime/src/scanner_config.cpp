@@ -159,6 +159,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"shape_cone_taper_doubt", Kind::non_negative, &p.shape.cone_taper_doubt},
       {"shape_flat_cone_sides", Kind::flag, nullptr, nullptr, 0, &p.shape.flat_cone_sides},
       {"shape_lid_spread_sigmas", Kind::non_negative, &p.shape.lid_spread_sigmas},
+      {"shape_circle_own_scatter", Kind::flag, nullptr, nullptr, 0, &p.shape.circle_own_scatter},
       {"shape_min_secondary_share", Kind::unit_share, &p.shape.min_secondary_share},
       {"shape_pair_min_secondary_share", Kind::unit_share, &p.shape.pair_min_secondary_share},
       {"shape_pair_max_neck_share", Kind::unit_share, &p.shape.pair_max_neck_share},

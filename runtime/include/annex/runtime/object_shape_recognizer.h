@@ -58,6 +58,13 @@ struct ShapeRecognizerParams {
   // rim by two sigma (5 mm of a flat tin's 4 cm at 2.4 m). A frustum widening up to
   // that lid ends there too. 0: off (before session 34).
   double lid_spread_sigmas = 2.0;
+  // An upright cylinder's circle is chosen and refined at its points' own scatter
+  // (noise_factor times the scale of the least median residual among the circles drawn)
+  // where that is below their tolerance: the smoothed side points of a mug 1.7 m away
+  // scatter 1.2 mm about its circle against a tolerance of 10 mm, within which a circle
+  // twice as wide through the front and the handle explains them too. Off: every circle
+  // at the tolerance (before session 42).
+  bool circle_own_scatter = true;
   // A secondary primitive must explain this share of the points the salient one misses
   // and at least this share of all points.
   double min_secondary_share = 0.12;
