@@ -517,10 +517,13 @@ struct CirclePoints {
     return sum;
   }
 
-  // The median of the absolute residuals about `c`.
+  // The median of the absolute residuals about `c` (quantile()'s, selected in place).
   double median_residual(const Circle& c) const {
     e = (((a - c.x).square() + (b - c.y).square()).sqrt() - c.r).abs();
-    return quantile(std::vector<double>(e.data(), e.data() + e.size()), 0.5);
+    if (e.size() == 0) return 0;
+    double* mid = e.data() + (e.size() - 1) / 2;
+    std::nth_element(e.data(), mid, e.data() + e.size());
+    return *mid;
   }
 };
 
