@@ -517,11 +517,12 @@ struct CirclePoints {
     return sum;
   }
 
-  // The median of the absolute residuals about `c` (quantile()'s, selected in place).
+  // The median of the absolute residuals about `c`: quantile()'s (the upper of two
+  // middles), selected in place.
   double median_residual(const Circle& c) const {
     e = (((a - c.x).square() + (b - c.y).square()).sqrt() - c.r).abs();
     if (e.size() == 0) return 0;
-    double* mid = e.data() + (e.size() - 1) / 2;
+    double* mid = e.data() + e.size() / 2;
     std::nth_element(e.data(), mid, e.data() + e.size());
     return *mid;
   }
