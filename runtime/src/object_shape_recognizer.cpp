@@ -528,8 +528,8 @@ struct CirclePoints {
   }
 };
 
-// The scatter no circle's consensus is asked below: a scatter of zero (points laid on a
-// circle) would leave a circle no width for rounding.
+// The least scatter points are credited with: points laid exactly on a circle (a
+// scatter of zero) would leave its consensus no width for rounding.
 constexpr double kCircleLeastScatterM = 0.0005;
 
 // The points' own scatter about their circle: the least median absolute residual among

@@ -652,10 +652,10 @@ EverydayRoom everyday_room(std::uint64_t seed, double lo_m, double hi_m, bool mu
     const SyntheticObject& o = r.scene.objects[i];
     const double range = norm(r.frame.truth.objects[i].primitives[0].center);
     // A bottle's details start with its shoulder's cone, a mug's handle is three boxes.
-    const bool is = o.details.size() == 3 &&
-                    o.details[0].kind == (mug ? ShapeKind::box : ShapeKind::cone) &&
-                    o.kind == ShapeKind::cylinder;
-    if (is && range > lo_m && range < hi_m) r.object = static_cast<int>(i);
+    const bool wanted = o.details.size() == 3 &&
+                        o.details[0].kind == (mug ? ShapeKind::box : ShapeKind::cone) &&
+                        o.kind == ShapeKind::cylinder;
+    if (wanted && range > lo_m && range < hi_m) r.object = static_cast<int>(i);
   }
   return r;
 }

@@ -131,8 +131,8 @@ TEST(TouchingGate, TwoBodiesUnderTheWiderGateStandOnTwoFeet) {
   // sigma only (its foot seen in two pieces: AFootSeenInTwoPiecesStandsOnTwoFeet).
   // 9748's pair (a ball against a tin 2.4 m away) with its circle as fitted then: at its
   // points' own scatter (session 42) the tin's circle is its own, one cylinder explains
-  // the pair at 0.81 with the ball left out, and the criterion ties (two bodies 20.9
-  // against one 20.4): one object.
+  // the pair at 0.81 with the ball left out, and the information criterion prefers one
+  // body, narrowly (20.4 against two bodies' 20.9): one object.
   ScanParams circle_then;
   circle_then.shape.circle_own_scatter = false;
   for (const std::uint64_t seed : {5061u, 9748u, 10092u}) {
