@@ -2421,7 +2421,8 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   struct Secondary {
     Candidate neck;
     double share = 0;
-    double top_radius = 0;  // its upper part's circle's radius (neck_top_radius), 0 unseen
+    std::vector<int> rest;  // its points, from `base` up (neck_top_radius)
+    double base = 0;
   };
   auto secondary_candidate = [&](const Candidate& body,
                                  double min_share) -> std::optional<Secondary> {
@@ -2460,7 +2461,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     const double body_r = body.model == Model::cylinder ? body.r0 : std::max(body.ex, body.ey);
     if (pick->h1 - pick->h0 < 0.015 || std::max(pick->r0, pick->r1) > 1.05 * body_r)
       return std::nullopt;
-    return Secondary{*pick, share, neck_top_radius(s, rest, base, params)};
+    return Secondary{*pick, share, std::move(rest), base};
   };
   auto secondary_fit = [&](const Secondary& second) {
     ShapeFit fit = to_fit(second.neck, frame);
@@ -2469,11 +2470,13 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     return fit;
   };
   // A neck narrows to a share of the body (a bowl's flared rim above the cylinder of its
-  // foot is no neck): the narrower of its fit and its upper part's circle.
+  // foot is no neck): the narrower of its fit and its upper part's circle (measured only
+  // when the fit is not narrow enough).
   auto narrow_neck = [&](const Secondary& second, const Candidate& body) {
-    double narrowest = std::min(second.neck.r0, second.neck.r1);
-    if (second.top_radius > 0) narrowest = std::min(narrowest, second.top_radius);
-    return narrowest <= params.pair_max_neck_share * body.r0;
+    const double most = params.pair_max_neck_share * body.r0;
+    if (std::min(second.neck.r0, second.neck.r1) <= most) return true;
+    const double top = neck_top_radius(s, second.rest, second.base, params);
+    return top > 0 && top <= most;
   };
   auto secondary = [&](const Candidate& body) -> std::optional<ShapeFit> {
     const std::optional<Secondary> second = secondary_candidate(body, params.min_secondary_share);
