@@ -563,11 +563,11 @@ Circle robust_circle(const std::vector<std::array<double, 2>>& q, const std::vec
   if (k.ok && k.r > params.min_radius_m && k.r < params.max_radius_m) drawn.push_back(k);
   if (drawn.empty()) return {};
   CirclePoints pts(q, tol);
-  std::vector<double> width = tol;
+  // Each point's width: its tolerance, at most `most`.
+  double most = std::numeric_limits<double>::infinity();
   if (params.circle_own_scatter) {
-    const double most = params.noise_factor * least_median_scatter(pts, drawn);
+    most = params.noise_factor * least_median_scatter(pts, drawn);
     pts.width = pts.width.min(most);
-    for (double& w : width) w = std::min(w, most);
   }
   Circle best;
   double best_score = -1;
@@ -584,11 +584,13 @@ Circle robust_circle(const std::vector<std::array<double, 2>>& q, const std::vec
   for (int round = 0; round < (params.circle_own_scatter ? 2 : 1); ++round) {
     in.clear();
     in_width.clear();
-    for (size_t i = 0; i < q.size(); ++i)
-      if (std::abs(len2(q[i][0] - x[0], q[i][1] - x[1]) - std::abs(x[2])) < 2.5 * width[i]) {
+    for (size_t i = 0; i < q.size(); ++i) {
+      const double width = std::min(tol[i], most);
+      if (std::abs(len2(q[i][0] - x[0], q[i][1] - x[1]) - std::abs(x[2])) < 2.5 * width) {
         in.push_back(q[i]);
-        in_width.push_back(width[i]);
+        in_width.push_back(width);
       }
+    }
     refine_analytic<3>(x, static_cast<int>(in.size()), in_width,
                        [&](const std::array<double, 3>& p, int i, shape_residuals::Gradient<3>* g) {
                          return shape_residuals::circle(p, in[i][0], in[i][1], g);
@@ -727,27 +729,42 @@ double height_sigma(const Samples& s, int i) {
 // within this share of the radius of the axis is a small disc (fit_cylinder).
 constexpr double kCapLeastSpread = 0.5;
 
+// The footprint (a, b) of the points of `subset` that face sideways (their normals
+// within about 45 degrees of level, when known) at heights lo to hi, with their
+// tolerances: what an upright circle is fitted on.
+struct Footprint {
+  std::vector<std::array<double, 2>> q;
+  std::vector<double> tol;
+};
+Footprint side_footprint(const Samples& s, const std::vector<int>& subset, double lo, double hi) {
+  Footprint f;
+  for (int i : subset) {
+    if (s.has_normals && std::abs(s.up[i]) > 0.7) continue;
+    if (s.p[i].h < lo || s.p[i].h > hi) continue;
+    f.q.push_back({s.p[i].a, s.p[i].b});
+    f.tol.push_back(s.tol[i]);
+  }
+  return f;
+}
+
+// The height `share` of the way from `base` up to `subset`'s top (its 99 % height).
+double height_share(const Samples& s, const std::vector<int>& subset, double base, double share) {
+  std::vector<double> heights;
+  for (int i : subset) heights.push_back(s.p[i].h);
+  return base + share * (quantile(heights, 0.99) - base);
+}
+
 Candidate fit_cylinder(const Samples& s, const std::vector<int>& subset, double base,
                        const ShapeRecognizerParams& params, std::mt19937_64& rng) {
   Candidate c;
   c.model = Model::cylinder;
-  std::vector<std::array<double, 2>> q;
-  std::vector<double> tol;
+  constexpr double kAll = std::numeric_limits<double>::infinity();
   // The body's circle comes from its lower part when that is seen well enough: a
   // bottle's shoulder and neck, higher up, are narrower and would shrink it.
-  std::vector<double> heights;
-  for (int i : subset) heights.push_back(s.p[i].h);
-  const double body_top = base + 0.6 * (quantile(heights, 0.99) - base);
-  for (int pass = 0; pass < 2 && q.size() < 40; ++pass) {
-    q.clear();
-    tol.clear();
-    for (int i : subset) {
-      if (s.has_normals && std::abs(s.up[i]) > 0.7) continue;
-      if (pass == 0 && s.p[i].h > body_top) continue;
-      q.push_back({s.p[i].a, s.p[i].b});
-      tol.push_back(s.tol[i]);
-    }
-  }
+  Footprint f = side_footprint(s, subset, -kAll, height_share(s, subset, base, 0.6));
+  if (f.q.size() < 40) f = side_footprint(s, subset, -kAll, kAll);
+  std::vector<std::array<double, 2>>& q = f.q;
+  std::vector<double>& tol = f.tol;
   if (q.size() < 12) {
     q.clear();
     tol.clear();
@@ -1804,18 +1821,10 @@ constexpr double kNeckUpperFrom = 0.4;
 // draws nothing from the fit's.
 double neck_top_radius(const Samples& s, const std::vector<int>& rest, double base,
                        const ShapeRecognizerParams& params) {
-  std::vector<double> heights;
-  for (int i : rest) heights.push_back(s.p[i].h);
-  const double upper = base + kNeckUpperFrom * (quantile(heights, 0.99) - base);
-  std::vector<std::array<double, 2>> q;
-  std::vector<double> tol;
-  for (int i : rest)
-    if (s.p[i].h >= upper && (!s.has_normals || std::abs(s.up[i]) <= 0.7)) {
-      q.push_back({s.p[i].a, s.p[i].b});
-      tol.push_back(s.tol[i]);
-    }
+  const Footprint f = side_footprint(s, rest, height_share(s, rest, base, kNeckUpperFrom),
+                                     std::numeric_limits<double>::infinity());
   std::mt19937_64 own(params.seed);
-  const Circle top = robust_circle(q, tol, params, own);
+  const Circle top = robust_circle(f.q, f.tol, params, own);
   return top.ok ? top.r : 0.0;
 }
 
