@@ -11,7 +11,7 @@
 //        [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only]
 //        [--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N]
 //        [--render-scale S] [--sensor NAME] [--flying SHARE] [--stacked SHARE]
-//        [--everyday SHARE]
+//        [--everyday SHARE] [--lying SHARE]
 //        (--repeat: our scans per frame, 30; --pcl-repeat: PCL's, interleaved with ours,
 //        default max(5, repeat / 3); --threads: our worker threads, 2; --speed-only: the
 //        speed section alone, e.g. under callgrind; --pool-per-scan: every scan starts its
@@ -31,7 +31,8 @@
 //        pixels); --stacked SHARE: that share of the boxes and cylinders carry an object on
 //        their top (stacked_share); --everyday SHARE: that share of the cylinders are mugs
 //        or bottles, of the cones narrowing down cups with a handle (everyday_share; the
-//        features mug, bottle and cup))
+//        features mug, bottle and cup); --lying SHARE: that share of the plain cylinders on
+//        the table or a furniture top rest on their side (lying_share; the feature lying))
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -399,6 +400,7 @@ std::vector<std::string> room_features(const SyntheticScene& s, const SyntheticO
   if (o.overhang) out.push_back("overhang");
   if (o.albedo < 1) out.push_back("dark");
   if (o.on_object >= 0) out.push_back("stacked");
+  if (o.lying) out.push_back("lying");
   if (!o.details.empty())  // --everyday
     out.push_back(o.kind == ShapeKind::cone                   ? "cup"
                   : o.details.front().kind == ShapeKind::cone ? "bottle"
@@ -458,10 +460,11 @@ struct WorldCamera {
   SensorNoiseParams noise;  // the Kinect's by default; --sensor NAME another's depth noise
 };
 
-// The generator's shares the command line sets (--stacked, --everyday).
+// The generator's shares the command line sets (--stacked, --everyday, --lying).
 struct SceneShares {
   double stacked = 0;
   double everyday = 0;
+  double lying = 0;
 };
 
 void world_set(int scenes, int first_seed, bool room, const SceneShares& shares, bool verbose,
@@ -489,6 +492,7 @@ void world_set(int scenes, int first_seed, bool room, const SceneShares& shares,
         room ? room_scene_params(seed64) : world_scene_params(seed64);
     scene_params.stacked_share = shares.stacked;
     scene_params.everyday_share = shares.everyday;
+    scene_params.lying_share = shares.lying;
     Result<SyntheticScene> scene = generate_scene(scene_params);
     if (scene) *scene = with_camera_scaled(std::move(*scene), camera.render_scale);
     if (!scene) {
@@ -838,6 +842,8 @@ int main(int argc, char** argv) {
       shares.stacked = std::clamp(std::atof(argv[++i]), 0.0, 1.0);
     else if (a == "--everyday" && i + 1 < argc)
       shares.everyday = std::clamp(std::atof(argv[++i]), 0.0, 1.0);
+    else if (a == "--lying" && i + 1 < argc)
+      shares.lying = std::clamp(std::atof(argv[++i]), 0.0, 1.0);
     else if (a == "--flying" && i + 1 < argc)
       camera.noise.flying_share = std::clamp(std::atof(argv[++i]), 0.0, 1.0);
     else if (a == "--pcl-repeat" && i + 1 < argc) pcl_repeat = std::max(1, std::atoi(argv[++i]));
@@ -875,7 +881,7 @@ int main(int argc, char** argv) {
           "[--world N] [--world-seed FIRST] [--rooms] [--skip-pcl] [--world-only] [--speed-only] "
           "[--pool-per-scan] [--verbose] [--png-dir DIR] [--scan-conf FILE] [--downsample N] "
           "[--render-scale S] [--sensor NAME] [--flying SHARE] [--stacked SHARE]\n"
-          "       [--everyday SHARE]\n");
+          "       [--everyday SHARE] [--lying SHARE]\n");
       return 2;
     }
   }

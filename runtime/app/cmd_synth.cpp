@@ -58,7 +58,7 @@ int run_synth(const std::vector<std::string>& args) {
   const auto parsed = parse_args("synth", args,
                                  {{"occluder", "no-noise"},
                                   {"seed", "objects", "out", "frames", "scenes", "kinds",
-                                   "depth-noise", "stacked", "everyday", "flying"}});
+                                   "depth-noise", "stacked", "everyday", "lying", "flying"}});
   if (!parsed) return kExitBadInput;
   if (!parsed->positional.empty()) {
     std::cerr << "annex-runtime synth: error: unexpected argument '" << parsed->positional[0]
@@ -133,7 +133,7 @@ int run_synth(const std::vector<std::string>& args) {
   }
   for (auto [name, target] :
        {std::pair{"stacked", &params.stacked_share}, std::pair{"everyday", &params.everyday_share},
-        std::pair{"flying", &noise.flying_share}}) {
+        std::pair{"lying", &params.lying_share}, std::pair{"flying", &noise.flying_share}}) {
     if (auto v = parsed->get(name)) {
       const std::optional<double> share = parse_share(name, *v);
       if (!share) return kExitBadInput;
@@ -174,7 +174,7 @@ const Command kSynthCommand{
     "usage: annex-runtime synth --out DIR [--seed N] [--objects K] [--frames F | --scenes C]\n"
     "                           [--kinds sphere,cylinder,...] [--occluder] [--no-noise]\n"
     "                           [--depth-noise NAME] [--stacked SHARE] [--everyday SHARE]\n"
-    "                           [--flying SHARE]\n"
+    "                           [--lying SHARE] [--flying SHARE]\n"
     "\n"
     "Renders tabletop scenes as a Kinect would see them (640x480, fx = fy = 525, axial\n"
     "noise 0.0012 + 0.0019 (z - 0.4)^2 m, lateral jitter, dropout) and writes\n"
@@ -199,6 +199,8 @@ const Command kSynthCommand{
     "  --everyday SHARE  that share of the cylinders are mugs (a handle) or bottles (a\n"
     "                 shoulder, neck and cap), of the cones narrowing down cups with a\n"
     "                 handle; the .scene holds their bodies\n"
+    "  --lying SHARE    that share of the plain cylinders on the table or a furniture\n"
+    "                 top rest on their side, their axis level\n"
     "  --flying SHARE   that share of the pixels kept at depth edges return a depth\n"
     "                 between their two surfaces (a time-of-flight or stereo camera's\n"
     "                 flying pixels; the Kinect, the default, drops most of them: 0)\n"

@@ -58,6 +58,7 @@ double center_height(const SyntheticObject& o) {
   switch (o.kind) {
     case ShapeKind::sphere: return d[0];
     case ShapeKind::cylinder:
+      return o.lying ? d[0] : d[1] * 0.5;
     case ShapeKind::cone: return d[1] * 0.5;
     case ShapeKind::torus: return d[1];
     case ShapeKind::box: return d[2] * 0.5;
@@ -70,17 +71,25 @@ double half_height(const SyntheticObject& o) { return center_height(o); }
 
 // Radius of the circle the object covers on the table, whatever its yaw.
 double footprint_radius(const SyntheticObject& o) {
+  if (o.lying) return std::hypot(o.dimensions_m[0], 0.5 * o.dimensions_m[1]);
   return annex::footprint_radius(o.kind, o.dimensions_m);
+}
+
+// A lying cylinder's footprint: its length along the yaw, its diameter across.
+Vec3 lying_footprint(const SyntheticObject& o) {
+  return {o.dimensions_m[1], 2 * o.dimensions_m[0], 0};
 }
 
 // Half the object's horizontal extent along the horizontal unit vector u: a box's
 // support function, the footprint radius for round shapes.
 double extent_along(const SyntheticObject& o, Vec3 u) {
-  if (o.kind != ShapeKind::box && o.kind != ShapeKind::plane) return footprint_radius(o);
+  const bool rectangle = o.kind == ShapeKind::box || o.kind == ShapeKind::plane || o.lying;
+  if (!rectangle) return footprint_radius(o);
+  const Vec3 size = o.lying ? lying_footprint(o) : Vec3{o.dimensions_m[0], o.dimensions_m[1], 0};
   const double yaw = o.yaw_deg * std::numbers::pi / 180.0;
   const double along_x = std::abs(std::cos(yaw) * u.x + std::sin(yaw) * u.y);
   const double along_y = std::abs(-std::sin(yaw) * u.x + std::cos(yaw) * u.y);
-  return 0.5 * (along_x * o.dimensions_m[0] + along_y * o.dimensions_m[1]);
+  return 0.5 * (along_x * size.x + along_y * size.y);
 }
 
 int uniform_int(std::mt19937_64& rng, int lo, int hi) {
@@ -167,7 +176,14 @@ LocalHit hit_object(const SyntheticObject& obj, Vec3 origin, Vec3 dir) {
   LocalHit h;
   switch (obj.kind) {
     case ShapeKind::sphere: h = hit_sphere(o, d, dim[0]); break;
-    case ShapeKind::cylinder: h = hit_cylinder(o, d, dim[0], dim[1]); break;
+    case ShapeKind::cylinder:
+      if (obj.lying) {  // turned a quarter about local y: its axis along local x
+        h = hit_cylinder({-o.z, o.y, o.x}, {-d.z, d.y, d.x}, dim[0], dim[1]);
+        h.normal = {h.normal.z, h.normal.y, -h.normal.x};
+      } else {
+        h = hit_cylinder(o, d, dim[0], dim[1]);
+      }
+      break;
     case ShapeKind::cone: {
       // Apex down: the cone mirrored about its middle.
       const double m = obj.apex_down ? -1 : 1;
@@ -270,6 +286,7 @@ void add_shelf_objects(const SyntheticSceneParams& params, SyntheticScene& s, st
 void add_room_extras(const SyntheticSceneParams& params, SyntheticScene& s);
 void add_stacked_objects(const SyntheticSceneParams& params, SyntheticScene& s);
 void add_everyday_objects(const SyntheticSceneParams& params, SyntheticScene& s);
+void add_lying_objects(const SyntheticSceneParams& params, SyntheticScene& s);
 std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std::mt19937_64& rng,
                                          int& placed_count);
 }  // namespace
@@ -294,10 +311,12 @@ Result<SyntheticScene> generate_scene(const SyntheticSceneParams& params) {
       !share(params.shelf_chance) || !share(params.touching_share) ||
       !share(params.overhang_share) || !share(params.dark_share) ||
       !share(params.back_chair_chance) || !share(params.cabinet_chance) ||
-      !share(params.pole_chance) || !share(params.stacked_share) || !share(params.everyday_share))
+      !share(params.pole_chance) || !share(params.stacked_share) || !share(params.everyday_share) ||
+      !share(params.lying_share))
     return Error{
         "floor and shelf objects must not be negative; chair, shelf, back chair, cabinet and "
-        "pole chances, touching, overhang, dark, stacked and everyday shares within [0, 1]",
+        "pole chances, touching, overhang, dark, stacked, everyday and lying shares within "
+        "[0, 1]",
         {}};
 
   // Whole layouts are redrawn (camera included) when the objects do not fit; the
@@ -331,7 +350,12 @@ double extent_at(const SyntheticObject& o, Vec3 u, double z) {
   if (z < 0 || z > h) return 0;
   switch (o.kind) {
     case ShapeKind::sphere: return std::sqrt(std::max(0.0, d[0] * d[0] - (z - d[0]) * (z - d[0])));
-    case ShapeKind::cylinder: return d[0];
+    case ShapeKind::cylinder: {
+      if (!o.lying) return d[0];
+      SyntheticObject slice = o;  // the cross-section at z: a rectangle as long as the axis
+      slice.dimensions_m[0] = std::sqrt(std::max(0.0, d[0] * d[0] - (z - d[0]) * (z - d[0])));
+      return extent_along(slice, u);
+    }
     case ShapeKind::cone: {
       const double up = o.apex_down ? z / h : 1 - z / h;  // 1 at the wide end
       return o.narrow_radius_m + (d[0] - o.narrow_radius_m) * up;
@@ -683,7 +707,7 @@ void darken(SyntheticObject& o, double albedo) {
 // cylinder's radius; 0 for shapes with no flat top.
 double top_half_width(const SyntheticObject& o) {
   if (o.kind == ShapeKind::box) return 0.5 * std::min(o.dimensions_m[0], o.dimensions_m[1]);
-  if (o.kind == ShapeKind::cylinder) return o.dimensions_m[0];
+  if (o.kind == ShapeKind::cylinder && !o.lying) return o.dimensions_m[0];
   return 0;
 }
 
@@ -834,7 +858,8 @@ void add_everyday_objects(const SyntheticSceneParams& params, SyntheticScene& s)
     SyntheticObject& o = s.objects[k];
     const bool cup = o.kind == ShapeKind::cone && o.apex_down && o.dimensions_m[1] >= 0.05 &&
                      o.dimensions_m[1] <= 0.14;
-    if ((o.kind != ShapeKind::cylinder && !cup) || uniform(rng, 0, 1) >= params.everyday_share)
+    if ((o.kind != ShapeKind::cylinder && !cup) || uniform(rng, 0, 1) >= params.everyday_share ||
+        o.lying)
       continue;
     const bool carries = std::any_of(
         s.objects.begin(), s.objects.end(),
@@ -854,6 +879,76 @@ void add_everyday_objects(const SyntheticSceneParams& params, SyntheticScene& s)
       o.yaw_deg = handle_yaw(s, k, rng);
       add_handle(
           o, mug, [=](double) { return r; }, rng);
+    }
+  }
+}
+
+// Whether a cylinder may be laid on its side: plain, standing on the table or a
+// furniture top (not a shelf board, whose clearance is tight), whole in view, nothing
+// on it, not on another, touching none and across no edge.
+bool may_lie(const SyntheticScene& s, std::size_t k) {
+  const SyntheticObject& o = s.objects[k];
+  const auto index = static_cast<int>(k);
+  const bool on_support_top =
+      o.support == 0 ||
+      (o.support > 0 &&
+       s.furniture[static_cast<std::size_t>(o.support - 1)].role == SyntheticBlock::Role::support);
+  const bool bound =
+      std::any_of(s.objects.begin(), s.objects.end(), [&](const SyntheticObject& other) {
+        return other.on_object == index || other.touching == index;
+      });
+  return o.kind == ShapeKind::cylinder && o.details.empty() && on_support_top && !o.cut &&
+         o.touching < 0 && o.on_object < 0 && !o.overhang && !bound;
+}
+
+// Whether `lying`, replacing object k, stays on its support's top `kClear_m` from its
+// edges, clear of every other object on it (their extents along the line between
+// centres apart: both footprints are symmetric and convex), and in view.
+bool lying_fits(const SyntheticSceneParams& params, const SyntheticScene& s, std::size_t k,
+                const SyntheticObject& lying) {
+  constexpr double kClear_m = 0.01;
+  Vec3 top_center{0, 0, 0}, top_half{s.table_half_x_m, s.table_half_y_m, 0};
+  if (lying.support > 0) {
+    const SyntheticBlock& b = s.furniture[static_cast<std::size_t>(lying.support - 1)];
+    top_center = b.center, top_half = b.size_m * 0.5;
+  }
+  const Vec3 rel = lying.center - top_center;
+  if (std::abs(rel.x) + extent_along(lying, {1, 0, 0}) > top_half.x - kClear_m ||
+      std::abs(rel.y) + extent_along(lying, {0, 1, 0}) > top_half.y - kClear_m)
+    return false;
+  std::vector<PixelRect> others;
+  for (std::size_t j = 0; j < s.objects.size(); ++j) {
+    if (j == k) continue;
+    const SyntheticObject& other = s.objects[j];
+    others.push_back(object_rect(s, other));
+    if (other.support != lying.support) continue;
+    const Vec3 between{other.center.x - lying.center.x, other.center.y - lying.center.y, 0};
+    const double apart = norm(between);
+    const Vec3 u = apart > 0 ? between * (1 / apart) : Vec3{1, 0, 0};
+    if (apart < extent_along(lying, u) + extent_along(other, u) + kClear_m) return false;
+  }
+  return whole_in_view(s, object_rect(s, lying), others, params.max_view_overlap);
+}
+
+// lying_share of the cylinders that may lie (may_lie) rest on their side, on the spot
+// they stood on, along the first of kYawDraws random yaws where they fit (lying_fits);
+// else they stand. From a stream of its own, so the scene is otherwise the one without.
+void add_lying_objects(const SyntheticSceneParams& params, SyntheticScene& s) {
+  if (params.lying_share <= 0) return;
+  constexpr int kYawDraws = 8;
+  std::mt19937_64 rng(mix_seed(params.seed, 0x1a1d));
+  for (std::size_t k = 0; k < s.objects.size(); ++k) {
+    if (s.objects[k].kind != ShapeKind::cylinder || uniform(rng, 0, 1) >= params.lying_share ||
+        !may_lie(s, k))
+      continue;
+    SyntheticObject lying = s.objects[k];
+    lying.lying = true;
+    lying.center.z += center_height(lying) - center_height(s.objects[k]);
+    for (int draw = 0; draw < kYawDraws; ++draw) {
+      lying.yaw_deg = uniform(rng, 0, 360);
+      if (!lying_fits(params, s, k, lying)) continue;
+      s.objects[k] = lying;
+      break;
     }
   }
 }
@@ -1033,6 +1128,7 @@ std::optional<SyntheticScene> try_layout(const SyntheticSceneParams& params, std
   if (params.dark_share > 0)
     for (SyntheticObject& o : s.objects)
       if (uniform(rng, 0, 1) < params.dark_share) darken(o, uniform(rng, 0.15, 0.35));
+  add_lying_objects(params, s);
   add_room_extras(params, s);
   add_stacked_objects(params, s);
   add_everyday_objects(params, s);
@@ -1233,7 +1329,10 @@ PhysicalScene ground_truth(const SyntheticScene& scene, const Frame* frame,
     prim.kind = o.kind;
     prim.dimensions_m = o.dimensions_m;
     prim.center = table_to_camera_point(scene, o.center);
-    prim.axis = table_to_camera_direction(scene, o.apex_down ? kUp * -1.0 : kUp);
+    const Vec3 axis = o.lying       ? rotate_z({1, 0, 0}, deg_to_rad(o.yaw_deg))
+                      : o.apex_down ? kUp * -1.0
+                                    : kUp;
+    prim.axis = table_to_camera_direction(scene, axis);
     prim.narrow_radius_m = o.kind == ShapeKind::cone ? o.narrow_radius_m : 0.0;
     prim.fit = 1.0;
     PhysicalObject obj;

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <numbers>
 #include <string>
 #include <utility>
 #include <vector>
@@ -467,8 +468,58 @@ TEST(SyntheticRooms, EverydayObjectsCarryHandlesOrNecksTheirTruthIsTheBody) {
   EXPECT_GE(cups, 1);
 }
 
+// Lying cylinders (lying_share): a plain cylinder on the table or a furniture top rests
+// on its side on the spot it stood on, its axis level along its yaw, its footprint on
+// the top; every pixel rendered as it lies within a pixel of its surface; the truth's
+// axis is level; the rest of the scene is the one without them.
+TEST(SyntheticRooms, LyingCylindersRestOnTheirSideTheirAxisLevel) {
+  int lying = 0;
+  for (std::uint64_t seed = 6001; seed <= 6030; ++seed) {
+    SyntheticSceneParams p = room_scene_params(seed);
+    p.lying_share = 1;
+    const auto scenes = with_and_without(p, [](auto& q) { q.lying_share = 0; });
+    const SyntheticScene &with = scenes.first, &without = scenes.second;
+    ASSERT_EQ(with.objects.size(), without.objects.size());
+    const SyntheticFrame f = render_scene(with, exact());
+    for (std::size_t i = 0; i < with.objects.size(); ++i) {
+      const SyntheticObject& o = with.objects[i];
+      const SyntheticObject& was = without.objects[i];
+      EXPECT_EQ(o.center.x, was.center.x) << "seed " << seed;
+      EXPECT_EQ(o.center.y, was.center.y) << "seed " << seed;
+      if (!o.lying) continue;
+      ++lying;
+      ASSERT_EQ(o.kind, ShapeKind::cylinder);
+      EXPECT_TRUE(o.details.empty() && o.on_object < 0 && o.touching < 0 && !o.cut);
+      EXPECT_GE(o.support, 0) << "seed " << seed;
+      const double r = o.dimensions_m[0], h = o.dimensions_m[1];
+      EXPECT_NEAR(o.center.z - r, was.center.z - 0.5 * h, 1e-9) << "seed " << seed;  // same top
+      if (o.support == 0) {
+        const double yaw = o.yaw_deg * std::numbers::pi / 180;
+        const double reach_x = 0.5 * h * std::abs(std::cos(yaw)) + r * std::abs(std::sin(yaw));
+        const double reach_y = 0.5 * h * std::abs(std::sin(yaw)) + r * std::abs(std::cos(yaw));
+        EXPECT_LE(std::abs(o.center.x) + reach_x, with.table_half_x_m) << "seed " << seed;
+        EXPECT_LE(std::abs(o.center.y) + reach_y, with.table_half_y_m) << "seed " << seed;
+      }
+      const PhysicalPrimitive& truth = f.truth.objects[i].primitives[0];
+      EXPECT_NEAR(dot(truth.axis, f.truth.support->normal), 0, 1e-9) << "seed " << seed;
+      const std::vector<Vec3> pts = object_points(f, static_cast<int>(i));
+      ASSERT_GT(pts.size(), 50u) << "seed " << seed;
+      for (const Vec3& q : pts) {
+        const Vec3 rel = q - truth.center;
+        const double along = dot(rel, truth.axis);
+        const double across = norm(rel - truth.axis * along);
+        // On the side (across == r) or a cap (|along| == h / 2), within 0.1 mm.
+        EXPECT_LE(std::min(std::abs(across - r), std::abs(std::abs(along) - 0.5 * h)), 1e-4);
+        EXPECT_LE(std::abs(along), 0.5 * h + 1e-4);
+        EXPECT_LE(across, r + 1e-4);
+      }
+    }
+  }
+  EXPECT_GE(lying, 8);
+}
+
 TEST(SyntheticRooms, FeatureSharesOutOfRangeAreErrors) {
-  for (int which = 0; which < 12; ++which) {
+  for (int which = 0; which < 13; ++which) {
     SyntheticSceneParams p = room_scene_params(6001);
     if (which == 0) p.chair_chance = 1.5;
     if (which == 1) p.shelf_chance = -0.1;
@@ -482,6 +533,7 @@ TEST(SyntheticRooms, FeatureSharesOutOfRangeAreErrors) {
     if (which == 9) p.pole_chance = 2;
     if (which == 10) p.stacked_share = -0.2;
     if (which == 11) p.everyday_share = 1.2;
+    if (which == 12) p.lying_share = -0.5;
     EXPECT_FALSE(generate_scene(p).ok()) << which;
   }
 }

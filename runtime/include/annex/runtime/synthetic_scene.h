@@ -6,12 +6,13 @@
 // 0.0012 + 0.0019 (z - 0.4)^2 m), with lateral jitter and dropout.
 //
 // Geometry lives in a table frame: origin on the table top, +Z up, the camera looking
-// roughly along +Y and down. Every object rests upright on a support (sphere,
-// cylinder, cone or frustum either way up, torus lying flat, box), so its axis is +Z
-// or -Z and its orientation a yaw about it. Ground truth is converted to the camera
-// frame. The defaults give the project's original tabletop set; world_scene_params()
-// widens it to what a user's room shows (floor and table legs, a second support,
-// tall furniture, far and level cameras, cups and bowls, objects cut by the border).
+// roughly along +Y and down. Every object rests on a support (sphere, cylinder upright
+// or on its side, cone or frustum either way up, torus lying flat, box), so its axis is
+// +Z or -Z, or level for a lying cylinder, and its orientation a yaw about +Z. Ground
+// truth is converted to the camera frame. The defaults give the project's original
+// tabletop set; world_scene_params() widens it to what a user's room shows (floor and
+// table legs, a second support, tall furniture, far and level cameras, cups and bowls,
+// objects cut by the border).
 //
 // Deterministic for a seed within one toolchain (std::mt19937_64 and std
 // distributions, whose exact output the C++ standard leaves to the library).
@@ -115,6 +116,12 @@ struct SyntheticSceneParams {
   // are no primitive a user annexes). Drawn from a stream of its own, after the stacks:
   // an object carrying another keeps its plain top.
   double everyday_share = 0;
+  // Share of the plain cylinders on the table or a furniture top that rest on their side
+  // (a tin, a bottle, a rolling pin lying down), their axis level along a random yaw,
+  // where that footprint stays on the support, clear of the other objects, and in view;
+  // not one with a handle, one carrying or standing on another, touching another or
+  // across an edge. Drawn from a stream of its own before the room's extra elements.
+  double lying_share = 0;
   // A box (an arm, say) crossing the view between camera and table, for tracking tests.
   bool occluder = false;
   double occluder_speed_m_per_frame = 0.012;
@@ -139,6 +146,8 @@ struct SyntheticObject {
   // Cone only: radius of the narrow end (0: pointed) and whether the wide end is up.
   double narrow_radius_m = 0;
   bool apex_down = false;
+  // Cylinder only: resting on its side, its axis level along the yaw's +X.
+  bool lying = false;
   int support = 0;       // 0 the table, k > 0 furniture[k - 1]'s top (a second support
                          // or a shelf board), -1 the floor
   bool cut = false;      // placed across the image border
