@@ -43,6 +43,8 @@ SyntheticSceneParams only(std::uint64_t seed, const std::string& feature) {
   p.pole_chance = feature == "pole" ? 1 : 0;
   p.stacked_share = feature == "stacked" ? 1 : 0;
   p.everyday_share = feature == "everyday" ? 1 : 0;
+  p.lying_share = feature == "lying" ? 1 : 0;
+  if (feature == "lying") p.kinds = {ShapeKind::cylinder};  // every one that can lie does
   return p;
 }
 
@@ -470,7 +472,7 @@ TEST(SyntheticRooms, EverydayObjectsCarryHandlesOrNecksTheirTruthIsTheBody) {
 
 // Lying cylinders (lying_share): a plain cylinder on the table or a furniture top rests
 // on its side on the spot it stood on, its axis level along its yaw, its footprint on
-// the top; every pixel rendered as it lies within a pixel of its surface; the truth's
+// the top; every pixel rendered lies on its side or a cap (within 0.1 mm); the truth's
 // axis is level; the rest of the scene is the one without them.
 TEST(SyntheticRooms, LyingCylindersRestOnTheirSideTheirAxisLevel) {
   int lying = 0;
@@ -544,6 +546,7 @@ struct FeatureFigures {
   int objects = 0, found = 0, correct = 0, pieces_extra = 0, on_floor_support = 0, on_own_support = 0;
   int pairs = 0, pairs_split = 0, false_chair = 0, false_shelf = 0;
   int stacks = 0, stacks_on_right = 0;  // both found; the upper reported on the lower
+  int level = 0;  // classed right, the axis within 10 degrees of the truth's (lying: level)
 };
 
 // The scanner on rooms `first`..`last` with `feature` alone, counting the objects
@@ -580,7 +583,8 @@ FeatureFigures scan_feature(const std::string& feature, std::uint64_t first, std
           (feature == "floor" && o.support < 0) || (feature == "touching" && o.touching >= 0) ||
           (feature == "overhang" && o.overhang) || (feature == "dark" && o.albedo < 1) ||
           (feature == "on-shelf" && on_shelf(s, o)) || (feature == "stacked" && o.on_object >= 0) ||
-          (feature == "everyday" && !o.details.empty()) || feature == "chair" || feature == "shelf";
+          (feature == "everyday" && !o.details.empty()) || (feature == "lying" && o.lying) ||
+          feature == "chair" || feature == "shelf";
       const double range = norm(truth.primitives[0].center);
       if (!has || truth.partial || range > reach_m || range < near_m) continue;
       if (feature == "touching") {
@@ -601,7 +605,11 @@ FeatureFigures scan_feature(const std::string& feature, std::uint64_t first, std
       }
       r.pieces_extra += pieces[t] - 1;
       const PhysicalObject& got = scan->scene.objects[static_cast<std::size_t>(pick[t])];
-      r.correct += !got.primitives.empty() && got.primitives[0].kind == truth.primitives[0].kind;
+      const bool right =
+          !got.primitives.empty() && got.primitives[0].kind == truth.primitives[0].kind;
+      r.correct += right;
+      r.level += right && std::abs(dot(got.primitives[0].axis, truth.primitives[0].axis)) >
+                              std::cos(10 * std::numbers::pi / 180);
       for (const SupportSurface& sp : scan->scene.supports)
         if (sp.id == got.support_id && std::abs(sp.plane.d - f.truth.supports[1].plane.d) < 0.03)
           ++r.on_floor_support;
@@ -620,6 +628,24 @@ FeatureFigures scan_feature(const std::string& feature, std::uint64_t first, std
       r.on_own_support, r.pairs, r.pairs_split, r.false_chair, r.false_shelf, r.stacks,
       r.stacks_on_right);
   return r;
+}
+
+// A cylinder lying on its side (lying_share): within 1.5 m every one is a cylinder along
+// its axis (the lying cylinder resting on the plane along the box's footprint, or the
+// cylinder in any orientation); at 1.5-2.5 m short wide tins on their side read as
+// spheres and boxes: 16 of 27 here, under the 90 % goal (docs/perception.md, "Objects
+// lying on their side").
+TEST(ScannerRooms, LyingCylindersWithinOneAndAHalfMetresAreCylindersAlongTheirAxis) {
+  const FeatureFigures near = scan_feature("lying", 13001, 13020, 1.5);
+  EXPECT_GE(near.objects, 6);
+  EXPECT_EQ(near.found, near.objects);
+  EXPECT_EQ(near.correct, near.objects);
+  EXPECT_EQ(near.level, near.correct);
+  const FeatureFigures far = scan_feature("lying", 13001, 13020, 2.5, 1.5);
+  EXPECT_GE(far.objects, 20);
+  EXPECT_EQ(far.found, far.objects);
+  EXPECT_GE(far.correct, 0.55 * far.objects);
+  EXPECT_EQ(far.level, far.correct);
 }
 
 TEST(ScannerRooms, ObjectsOnTheFloorFoundOnTheFloor) {

@@ -156,7 +156,7 @@ struct SyntheticObject {
   bool overhang = false; // placed across a table edge
   double albedo = 1;     // below 1: dark, its depth drops out where the return is weak
   Vec3 center;
-  double yaw_deg = 0;  // about +Z; only a box shows it
+  double yaw_deg = 0;  // about +Z; only a box and a lying cylinder show it
   std::array<std::uint8_t, 3> color{200, 60, 60};
   std::vector<SyntheticDetail> details;  // everyday_share: what the body carries
   Vec3 velocity_m_per_frame;  // horizontal drift
