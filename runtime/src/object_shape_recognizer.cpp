@@ -63,6 +63,10 @@ struct Samples {
   std::vector<Vec3> xyz;
   bool has_normals = false;
   double top = 0;  // object height above the plane
+  // The height 90 % of the points lie under: a few of a neighbour's points (a ball's edge
+  // beside a ring, given to the ring by a straight cut) leave it where the object's is.
+  // The top's when ShapeRecognizerParams::torus_own_points is off.
+  double bulk_top = 0;
   Local eye;       // the camera (the sensor's origin) in plane coordinates
   bool own_side_hides = true;  // ShapeRecognizerParams::own_side_hides
   DepthNoise noise;            // ShapeRecognizerParams::depth_noise
@@ -167,6 +171,35 @@ double distance(const Candidate& c, const CandidateTerms& k, const Local& p) {
   }
   return 1e9;
 }
+
+// The normal a box or a lying cylinder has at the surface point nearest p, in plane
+// coordinates (a, b, up): a box's face's, a lying cylinder's radial direction or its cap's.
+std::array<double, 3> model_normal(const Candidate& c, const CandidateTerms& k, const Local& p) {
+  const double da = p.a - c.ca, db = p.b - c.cb;
+  const double s = k.cs * da + k.sn * db, w = -k.sn * da + k.cs * db;
+  auto plane_dir = [&](double along, double across, double up) {
+    return std::array<double, 3>{k.cs * along - k.sn * across, k.sn * along + k.cs * across, up};
+  };
+  if (c.model == Model::box) {
+    const double to_top = std::abs(p.h - c.h1), to_x = std::abs(std::abs(s) - c.ex),
+                 to_y = std::abs(std::abs(w) - c.ey);
+    if (to_top <= to_x && to_top <= to_y) return {0, 0, 1};
+    return to_x <= to_y ? plane_dir(s < 0 ? -1 : 1, 0, 0) : plane_dir(0, w < 0 ? -1 : 1, 0);
+  }
+  const double dh = p.h - c.hc, rho = len2(w, dh);
+  if (std::abs(std::abs(s) - c.ex) < std::abs(rho - c.r0) || rho <= 0)
+    return plane_dir(s < 0 ? -1 : 1, 0, 0);
+  return plane_dir(0, w / rho, dh / rho);
+}
+
+// A side's normal runs across a cylinder's axis, a cap's along it: points whose normal's
+// share along the axis is below this are the side's (as cylinder_any_axis.cpp's).
+constexpr double kSideNormalAlong = 0.4;
+
+// Side normals bunched into faces 90 degrees apart give a flatness (|mean of 4x their
+// angle|) near 1, normals sweeping round a curved side near 0; below this the sides are
+// round (the upright test on a box's side normals, and round_across_axis's).
+constexpr double kRoundSides = 0.3;
 
 // A cylinder or cone open at the top (a pot, a mug, a bowl): the camera sees its inner
 // floor through the opening, up-facing points inside the side and well below the rim.
@@ -1203,6 +1236,10 @@ Candidate fit_sphere(const Samples& s, const ShapeRecognizerParams& params) {
   return c;
 }
 
+// Points higher than this times Samples::bulk_top are not a flat torus's own
+// (ShapeRecognizerParams::torus_own_points; the tube's noisy top lies under it).
+constexpr double kTorusOwnHeight = 1.5;
+
 // Torus lying flat on the plane: tube centre one minor radius above it.
 Candidate fit_torus(const Samples& s, const Candidate& cyl, const ShapeRecognizerParams& params) {
   Candidate c;
@@ -1211,11 +1248,21 @@ Candidate fit_torus(const Samples& s, const Candidate& cyl, const ShapeRecognize
   if (n < 20 || !cyl.valid) return c;
   std::vector<double> rho;
   for (const Local& p : s.p) rho.push_back(len2(p.a - cyl.ca, p.b - cyl.cb));
-  const double minor0 = std::max(0.005, s.top / 2);
+  const double minor0 = std::max(0.005, s.bulk_top / 2);
   std::array<double, 4> x{cyl.ca, cyl.cb, std::max(quantile(rho, 0.5), minor0 * 1.5), minor0};
-  refine_analytic<4>(x, n, s.tol,
-                     [&](const std::array<double, 4>& p, int i, shape_residuals::Gradient<4>* g) {
-                       return shape_residuals::torus(p, s.p[i].a, s.p[i].b, s.p[i].h, g);
+  // A torus lying flat is no taller than its tube: points well above the bulk's top are
+  // a neighbour's (a ball's edge beside a ring) and would pull the tube up round them.
+  std::vector<int> own;
+  std::vector<double> own_tol;
+  for (int i = 0; i < n; ++i)
+    if (!params.torus_own_points || s.p[static_cast<size_t>(i)].h <= kTorusOwnHeight * s.bulk_top) {
+      own.push_back(i);
+      own_tol.push_back(s.tol[static_cast<size_t>(i)]);
+    }
+  refine_analytic<4>(x, static_cast<int>(own.size()), own_tol,
+                     [&](const std::array<double, 4>& p, int k, shape_residuals::Gradient<4>* g) {
+                       const Local& q = s.p[static_cast<size_t>(own[static_cast<size_t>(k)])];
+                       return shape_residuals::torus(p, q.a, q.b, q.h, g);
                      });
   c.ca = x[0];
   c.cb = x[1];
@@ -1508,32 +1555,6 @@ Candidate fit_box(const Samples& s, const ShapeRecognizerParams& params, const B
   return box_at(s, params, azimuth.theta, azimuth.sides);
 }
 
-// Cylinder lying on its side: its axis runs along the footprint's long side, and the
-// cross-section is a circle touching the plane.
-Candidate fit_lying_cylinder(const Samples& s, const Candidate& box,
-                             const ShapeRecognizerParams& params) {
-  Candidate c;
-  c.model = Model::lying_cylinder;
-  if (!box.valid || s.p.size() < 20) return c;
-  const double cs = std::cos(box.theta), sn = std::sin(box.theta);
-  std::vector<double> w(s.p.size()), tol = s.tol;
-  for (size_t i = 0; i < s.p.size(); ++i)
-    w[i] = -sn * (s.p[i].a - box.ca) + cs * (s.p[i].b - box.cb);
-  std::array<double, 2> x{0.0, std::max(0.005, s.top / 2)};
-  refine_analytic<2>(x, static_cast<int>(s.p.size()), tol,
-                     [&](const std::array<double, 2>& p, int i, shape_residuals::Gradient<2>* g) {
-                       return shape_residuals::lying_circle(p, w[i], s.p[i].h, g);
-                     });
-  c.theta = box.theta;
-  c.ca = box.ca - sn * x[0];
-  c.cb = box.cb + cs * x[0];
-  c.r0 = c.r1 = std::abs(x[1]);
-  c.hc = c.r0;
-  c.ex = box.ex;
-  c.valid = c.r0 >= params.min_radius_m && c.r0 <= params.max_radius_m && c.ex > c.r0 * 0.5;
-  return c;
-}
-
 // A cylinder lying on the plane along azimuth `theta` through (ca, cb): a solid resting
 // on its support touches it and does not pass through it, so its axis is parallel to the
 // plane at the height of its radius. Given that, the cross-section is a circle touching
@@ -1552,9 +1573,19 @@ Candidate fit_lying_cylinder_along(const Samples& s, double theta, double ca, do
     w[i] = -sn * (s.p[i].a - ca) + cs * (s.p[i].b - cb);
   }
   const double lo = quantile(along, 0.01), hi = quantile(along, 0.99);
+  // The circle through the side's points: a cap's lie inside it and would shrink it (a
+  // short tin on its side shows a lid as large as its side). Caps face along the axis.
+  std::vector<int> side;
+  std::vector<double> side_tol;
+  for (size_t i = 0; i < s.p.size(); ++i)
+    if (!s.has_normals || std::abs(cs * s.na[i] + sn * s.nb[i]) < kSideNormalAlong) {
+      side.push_back(static_cast<int>(i));
+      side_tol.push_back(s.tol[i]);
+    }
   std::array<double, 2> x{0.0, std::max(0.005, radius_start)};
-  refine_analytic<2>(x, static_cast<int>(s.p.size()), s.tol,
-                     [&](const std::array<double, 2>& p, int i, shape_residuals::Gradient<2>* g) {
+  refine_analytic<2>(x, static_cast<int>(side.size()), side_tol,
+                     [&](const std::array<double, 2>& p, int k, shape_residuals::Gradient<2>* g) {
+                       const auto i = static_cast<size_t>(side[static_cast<size_t>(k)]);
                        return shape_residuals::lying_circle(p, w[i], s.p[i].h, g);
                      });
   const double mid = (lo + hi) / 2;
@@ -1757,6 +1788,72 @@ double independent_points(const Samples& s, double focal_px) {
     n += 1.0 / static_cast<double>(std::max<size_t>(near * stride, 1));
   }
   return n;
+}
+
+// How far each normal seen lies from a box's or a lying cylinder's: sin^2 of the angle
+// between it and the model's at the nearest surface point; -1 where the normal is
+// unknown. The normals' own noise adds the same to every model, so two models' misfits
+// compare even where that noise is large.
+std::vector<double> normal_misfits(const Candidate& c, const Samples& s) {
+  std::vector<double> out(s.p.size(), -1);
+  if (!s.has_normals) return out;
+  const CandidateTerms k = terms_of(c);
+  for (size_t i = 0; i < s.p.size(); ++i) {
+    const double n2 = s.na[i] * s.na[i] + s.nb[i] * s.nb[i] + s.up[i] * s.up[i];
+    if (n2 < 0.25) continue;  // unknown (0)
+    const std::array<double, 3> m = model_normal(c, k, s.p[i]);
+    const double cosine = m[0] * s.na[i] + m[1] * s.nb[i] + m[2] * s.up[i];
+    out[i] = 1 - cosine * cosine / n2;
+  }
+  return out;
+}
+
+// The flatness of the normals across a level axis along azimuth `theta`: of their angles
+// in the upright plane across the axis, the caps' left out (kSideNormalAlong); -1 with
+// fewer than 30 such normals.
+double flatness_across(const Samples& s, double theta) {
+  if (!s.has_normals) return -1;
+  const double cs = std::cos(theta), sn = std::sin(theta);
+  double c4 = 0, s4 = 0;
+  int n = 0;
+  for (size_t i = 0; i < s.p.size(); ++i) {
+    if (std::abs(cs * s.na[i] + sn * s.nb[i]) > kSideNormalAlong) continue;
+    const auto [cos4, sin4] = shape_residuals::fourfold(-sn * s.na[i] + cs * s.nb[i], s.up[i]);
+    c4 += cos4;
+    s4 += sin4;
+    ++n;
+  }
+  return n >= 30 ? len2(c4, s4) / n : -1.0;
+}
+
+// Whether a lying cylinder's normals show it, since its points alone do not: a box
+// resting where it does explains them as well, within the noise, from about 2 m. Its
+// normals must sweep round its axis (flatness across it under kRoundSides, as an upright
+// round side's round its own) and lie nearer its normals than the box's faces', by
+// kRoundNormalsSigmas standard errors of the mean difference over the object's
+// independent points: noisy normals sweep round a box's faces too (far away, or from a
+// stereo camera). Unknown normals show nothing.
+bool round_across_axis(const Candidate& lying, const Candidate& box, const Samples& s,
+                       double focal_px) {
+  constexpr double kRoundNormalsSigmas = 1;
+  if (!lying.valid) return false;
+  const double across = flatness_across(s, lying.theta);
+  if (across < 0 || across >= kRoundSides) return false;
+  if (!box.valid) return true;
+  const std::vector<double> own = normal_misfits(lying, s), boxes = normal_misfits(box, s);
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (size_t i = 0; i < own.size(); ++i)
+    if (own[i] >= 0) {
+      const double d = boxes[i] - own[i];
+      sum += d;
+      sum2 += d * d;
+      ++n;
+    }
+  if (n < 2) return false;
+  const double mean = sum / n, spread = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+  const double independent = std::max(1.0, independent_points(s, focal_px));
+  return mean > kRoundNormalsSigmas * spread / std::sqrt(independent);
 }
 
 // The least criterion among the entries (the saturated ones alone when
@@ -2099,6 +2196,7 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   std::vector<double> hs;
   for (const Local& p : s.p) hs.push_back(p.h);
   s.top = quantile(hs, 0.99);
+  s.bulk_top = params.torus_own_points ? quantile(hs, 0.9) : s.top;
   drop_ground_under_faces(s);
 
   std::vector<int> all(s.p.size());
@@ -2126,17 +2224,24 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     evaluate(by_lines, s);
     return by_lines.score > by_normals.score ? by_lines : by_normals;
   }();
-  const double width = box.valid ? 2 * box.ex : 0, depth = box.valid ? 2 * box.ey : 0;
+  const double width = box.valid ? 2 * box.ex : 0;
   double footprint_span = -1;  // points_span(s), measured when a radius passes the box's width
   const Candidate cyl = fit_cylinder(s, all, 0.0, params, rng);
   cands.push_back(cyl);
   cands.push_back(fit_cone(s, all, cyl, params));
   if (!box.valid || (s.top > 0.5 * width && s.top < params.sphere_max_top_over_width * width))
     cands.push_back(fit_sphere(s, params));
-  if (!box.valid || s.top < 0.55 * width) cands.push_back(fit_torus(s, cyl, params));
+  if (!box.valid || s.bulk_top < 0.55 * width) cands.push_back(fit_torus(s, cyl, params));
   cands.push_back(box);
-  if (box.valid && width > 1.2 * depth && s.top < 1.4 * depth)
-    cands.push_back(fit_lying_cylinder(s, box, params));
+  // A cylinder lying on the support along either side of the box's footprint: along its
+  // length (a bottle, a rolling pin) or across it (a tin on its side, shorter than wide).
+  if (box.valid)
+    for (const double along : {box.theta, box.theta + kPi / 2}) {
+      Candidate lying =
+          fit_lying_cylinder_along(s, along, box.ca, box.cb, std::max(0.005, s.top / 2), params);
+      lying.valid = lying.valid && round_across_axis(lying, box, s, params.focal_px);
+      cands.push_back(lying);
+    }
 
   // Flat sides show as side normals bunched into at most two azimuths 90 degrees
   // apart (|mean of 4x azimuth| near 1); a round side spreads them (near 0).
@@ -2197,7 +2302,8 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     double score = c.score;
     const bool round = c.model == Model::cylinder || c.model == Model::cone;
     if (flatness > 0.6 && round) score -= params.side_shape_penalty;
-    if (flatness >= 0 && flatness < 0.3 && c.model == Model::box) score -= params.side_shape_penalty;
+    if (flatness >= 0 && flatness < kRoundSides && c.model == Model::box)
+      score -= params.side_shape_penalty;
     evidence[i] = score;
     rank[i] = score - margin;
     judged[i] = 1;

@@ -180,6 +180,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"shape_own_side_hides", Kind::flag, nullptr, nullptr, 0, &p.shape.own_side_hides},
       {"shape_one_face_box_partial", Kind::flag, nullptr, nullptr, 0,
        &p.shape.one_face_box_partial},
+      {"shape_torus_own_points", Kind::flag, nullptr, nullptr, 0, &p.shape.torus_own_points},
       {"segment_enabled", Kind::flag, nullptr, nullptr, 0, &p.segment.enabled},
       {"stack_on_objects", Kind::flag, nullptr, nullptr, 0, &p.stack_on_objects},
       {"join_occluded", Kind::flag, nullptr, nullptr, 0, &p.join_occluded},

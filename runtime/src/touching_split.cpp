@@ -24,7 +24,11 @@ struct FitTerms {
   double coverage = 0, rms = 0;
   int parameters = 0;
   bool recognised = false;
+  bool level_cylinder = false;  // a cylinder lying on its side (kLevelAxisCos)
 };
+
+// A cylinder whose axis lies within about 10 degrees of level lies on its side.
+constexpr double kLevelAxisCos = 0.17;
 
 // The shape a cluster was given, or when unknown its best candidate (it still explains
 // part of the points); null when none was tried.
@@ -54,6 +58,9 @@ FitTerms terms_of(const Frame& f, const ScanCluster& c, const DepthNoise& noise)
     t.coverage = fit->coverage;
     t.rms = fit->rms_m;
     t.parameters = fitted_parameter_count(*fit, c.support);
+    t.level_cylinder = fit->primitive.kind == ShapeKind::cylinder &&
+                       std::abs(dot(normalized(fit->primitive.axis), normalized(c.support.normal))) <
+                           kLevelAxisCos;
   }
   return t;
 }
@@ -513,14 +520,19 @@ std::optional<TouchingCut> touching_cut(
     const std::function<bool(const ScanCluster&)>& seen_whole, const ShapeRecognizerParams& shape,
     const TouchingSplitParams& params) {
   const FitTerms whole = terms_of(f, cluster, shape.depth_noise);
-  if (whole.coverage >= params.max_whole_coverage || !seen_whole(cluster)) return std::nullopt;
+  // A cylinder lying on its side is what two round objects side by side look like
+  // together (two balls, a ball against a ring): however much of them it explains, the
+  // cut is tried, and the criterion between one body and two decides.
+  if ((whole.coverage >= params.max_whole_coverage && !whole.level_cylinder) ||
+      !seen_whole(cluster))
+    return std::nullopt;
   const int min_points = min_part_pixels(params.min_part_size_m, whole.depth, whole.focal_px);
   const double least = std::max(params.min_part_share * static_cast<double>(cluster.pixels.size()),
                                 static_cast<double>(min_points));
   const MeansCut means = two_means(f, cluster, params.min_part_share, min_points);
   // Explained that well, it is tried only on two feet: the refits cost as much whether
   // the cut is kept or not.
-  if (whole.coverage >= params.two_feet_coverage &&
+  if (whole.coverage >= params.two_feet_coverage && !whole.level_cylinder &&
       !two_feet(f, cluster, means, whole.depth, params))
     return std::nullopt;
   const auto narrows = [&] {

@@ -631,10 +631,10 @@ FeatureFigures scan_feature(const std::string& feature, std::uint64_t first, std
 }
 
 // A cylinder lying on its side (lying_share): within 1.5 m every one is a cylinder along
-// its axis (the lying cylinder resting on the plane along the box's footprint, or the
-// cylinder in any orientation); at 1.5-2.5 m short wide tins on their side read as
-// spheres and boxes: 16 of 27 here, under the 90 % goal (docs/perception.md, "Objects
-// lying on their side").
+// its axis (the lying cylinder resting on the plane along either side of the box's
+// footprint, or the cylinder in any orientation); at 1.5-2.5 m short wide tins on their
+// side read as spheres and boxes: 20 of 27 here (16 before session 44), under the 90 %
+// goal (docs/perception.md, "Objects lying on their side").
 TEST(ScannerRooms, LyingCylindersWithinOneAndAHalfMetresAreCylindersAlongTheirAxis) {
   const FeatureFigures near = scan_feature("lying", 13001, 13020, 1.5);
   EXPECT_GE(near.objects, 6);
@@ -644,7 +644,7 @@ TEST(ScannerRooms, LyingCylindersWithinOneAndAHalfMetresAreCylindersAlongTheirAx
   const FeatureFigures far = scan_feature("lying", 13001, 13020, 2.5, 1.5);
   EXPECT_GE(far.objects, 20);
   EXPECT_EQ(far.found, far.objects);
-  EXPECT_GE(far.correct, 0.55 * far.objects);
+  EXPECT_GE(far.correct, 0.7 * far.objects);
   EXPECT_EQ(far.level, far.correct);
 }
 
@@ -1149,9 +1149,11 @@ TEST(ScannerRooms, APieceThatTurnsItsOwnerIntoAnotherShapeIsGivenBack) {
     ScanParams p;
     p.part_fit_slack = k == 1 ? ScanParams{}.part_fit_slack : 1.0;
     // With a solid hiding its own far side (shape_own_side_hides, session 23) the merged
-    // torus's refit is no cylinder, and it stays a torus without the rule too. Off, to
-    // see this rule alone.
+    // torus's refit is no cylinder, and it stays a torus without the rule too; so it does
+    // with a torus fitted to its own points (shape_torus_own_points, session 44), the
+    // piece's higher points left out. Both off, to see this rule alone.
     p.shape.own_side_hides = false;
+    p.shape.torus_own_points = false;
     const Result<ScanResult> scan = scan_frame(f.frame, p);
     ASSERT_TRUE(scan.ok());
     // The torus's object: the biggest of the clusters mostly its pixels.

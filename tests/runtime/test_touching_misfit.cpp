@@ -44,9 +44,9 @@ bool found_as_itself(const RoomScan& r, int k) {
 }
 
 // Whether the room's touching pair holding an object for which `is` holds is found as two
-// objects, each of its own kind.
+// objects, each of its own kind; when `misfit_needed`, not with the means' cut alone.
 template <typename Is>
-void expect_pair_apart(std::uint64_t seed, Is is) {
+void expect_pair_apart(std::uint64_t seed, Is is, bool misfit_needed = true) {
   ScanParams means_only;
   means_only.touching_misfit_cut = false;
   const RoomScan r = scan_room(seed, ScanParams{});
@@ -54,6 +54,7 @@ void expect_pair_apart(std::uint64_t seed, Is is) {
   ASSERT_GE(t, 0);
   ASSERT_GE(other, 0);
   for (const int k : {t, other}) EXPECT_TRUE(found_as_itself(r, k)) << seed << " object " << k;
+  if (!misfit_needed) return;
   // With the means' cut alone, one of the two is no object's own.
   const RoomScan merged = scan_room(seed, means_only);
   EXPECT_TRUE(!merged.of[static_cast<std::size_t>(t)] ||
@@ -80,10 +81,16 @@ TEST(TouchingMisfit, AFlatBowlAgainstABoxIsTwoObjects) {
 
 TEST(TouchingMisfit, ABallAgainstARingIsTwoObjects) {
   // Fresh rooms 9514: a ball 1.76 m away against a ring lying flat; one cylinder over
-  // both explained 68 %.
-  expect_pair_apart(9514u, [](const SyntheticObject& o) {
-    return o.kind == ShapeKind::sphere && o.dimensions_m.at(0) > 0.07;
-  });
+  // both explained 68 %, and the cut along its misfit parted them. Since session 44 a
+  // cylinder lying across both explains 78 %, its misfit all on the ring's side, and the
+  // means' cut parts them; the ring's part holds a strip of the ball's edge, 10 cm above
+  // the ring's top, which the ring's torus leaves out (kTorusOwnHeight).
+  expect_pair_apart(
+      9514u,
+      [](const SyntheticObject& o) {
+        return o.kind == ShapeKind::sphere && o.dimensions_m.at(0) > 0.07;
+      },
+      false);
 }
 
 TEST(TouchingMisfit, OneBowlPoorlyFittedStaysOneObject) {

@@ -142,6 +142,12 @@ struct ShapeRecognizerParams {
   // A tilted box no thicker than its points' tolerance is one face's noise: its depth
   // is not measured (ObjectShape::depth_unseen), as for a box seen by one side alone.
   bool one_face_box_partial = true;
+  // A torus lying flat is no taller than its tube: it is fitted to the points under 1.5
+  // times the height that 90 % of them lie under, and tried when that height, not the
+  // top's, is under 0.55 of the footprint's width. A few points of a neighbour above it (a
+  // ball's edge a straight cut gave a ring) otherwise pull its tube up round them, or
+  // keep it from being tried. Off: every point, gated on the top (before session 44).
+  bool torus_own_points = true;
   // At most this many points enter the fits (a deterministic subsample).
   int max_fit_points = 800;
   // The cone's Levenberg-Marquardt runs first on an even subsample of at most this many
