@@ -198,7 +198,7 @@ constexpr double kSideNormalAlong = 0.4;
 
 // Side normals bunched into faces 90 degrees apart give a flatness (|mean of 4x their
 // angle|) near 1, normals sweeping round a curved side near 0; below this the sides are
-// round (the upright test on a box's side normals, and round_across_axis's).
+// round (the upright test on a box's side normals, and round_across's).
 constexpr double kRoundSides = 0.3;
 
 // A cylinder or cone open at the top (a pot, a mug, a bowl): the camera sees its inner
@@ -1826,19 +1826,25 @@ double flatness_across(const Samples& s, double theta) {
   return n >= 30 ? len2(c4, s4) / n : -1.0;
 }
 
+// Whether the normals may sweep round a level axis along azimuth `theta` (flatness
+// across it under kRoundSides, as an upright round side's round its own): asked before a
+// lying cylinder is fitted along it, so that no fit is spent on a box's faces. Unknown
+// normals show nothing.
+bool round_across(const Samples& s, double theta) {
+  const double across = flatness_across(s, theta);
+  return across >= 0 && across < kRoundSides;
+}
+
 // Whether a lying cylinder's normals show it, since its points alone do not: a box
 // resting where it does explains them as well, within the noise, from about 2 m. Its
-// normals must sweep round its axis (flatness across it under kRoundSides, as an upright
-// round side's round its own) and lie nearer its normals than the box's faces', by
+// normals (round_across its axis) must lie nearer its normals than the box's faces', by
 // kRoundNormalsSigmas standard errors of the mean difference over the object's
 // independent points: noisy normals sweep round a box's faces too (far away, or from a
-// stereo camera). Unknown normals show nothing.
-bool round_across_axis(const Candidate& lying, const Candidate& box, const Samples& s,
-                       double focal_px) {
+// stereo camera).
+bool nearer_than_box_faces(const Candidate& lying, const Candidate& box, const Samples& s,
+                           double focal_px) {
   constexpr double kRoundNormalsSigmas = 1;
   if (!lying.valid) return false;
-  const double across = flatness_across(s, lying.theta);
-  if (across < 0 || across >= kRoundSides) return false;
   if (!box.valid) return true;
   const std::vector<double> own = normal_misfits(lying, s), boxes = normal_misfits(box, s);
   double sum = 0, sum2 = 0;
@@ -2237,9 +2243,10 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   // length (a bottle, a rolling pin) or across it (a tin on its side, shorter than wide).
   if (box.valid)
     for (const double along : {box.theta, box.theta + kPi / 2}) {
+      if (!round_across(s, along)) continue;
       Candidate lying =
           fit_lying_cylinder_along(s, along, box.ca, box.cb, std::max(0.005, s.top / 2), params);
-      lying.valid = lying.valid && round_across_axis(lying, box, s, params.focal_px);
+      lying.valid = lying.valid && nearer_than_box_faces(lying, box, s, params.focal_px);
       cands.push_back(lying);
     }
 
