@@ -2241,12 +2241,14 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   cands.push_back(box);
   // A cylinder lying on the support along either side of the box's footprint: along its
   // length (a bottle, a rolling pin) or across it (a tin on its side, shorter than wide).
+  bool lying_shown = false;  // a lying cylinder whose normals show it (nearer_than_box_faces)
   if (box.valid)
     for (const double along : {box.theta, box.theta + kPi / 2}) {
       if (!round_across(s, along)) continue;
       Candidate lying =
           fit_lying_cylinder_along(s, along, box.ca, box.cb, std::max(0.005, s.top / 2), params);
       lying.valid = lying.valid && nearer_than_box_faces(lying, box, s, params.focal_px);
+      lying_shown = lying_shown || lying.valid;
       cands.push_back(lying);
     }
 
@@ -2309,7 +2311,9 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
     double score = c.score;
     const bool round = c.model == Model::cylinder || c.model == Model::cone;
     if (flatness > 0.6 && round) score -= params.side_shape_penalty;
-    if (flatness >= 0 && flatness < kRoundSides && c.model == Model::box)
+    // A box pays where the normals sweep round: an upright side's round its vertical
+    // axis, or a lying cylinder's round its level one (nearer_than_box_faces).
+    if (((flatness >= 0 && flatness < kRoundSides) || lying_shown) && c.model == Model::box)
       score -= params.side_shape_penalty;
     evidence[i] = score;
     rank[i] = score - margin;
