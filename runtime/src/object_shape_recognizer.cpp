@@ -198,8 +198,15 @@ constexpr double kSideNormalAlong = 0.4;
 
 // Side normals bunched into faces 90 degrees apart give a flatness (|mean of 4x their
 // angle|) near 1, normals sweeping round a curved side near 0; below this the sides are
-// round (the upright test on a box's side normals, and round_across's).
+// round (the upright test on a box's side normals).
 constexpr double kRoundSides = 0.3;
+
+// The same across a level axis: a lying cylinder shows the half of its round side that
+// faces the camera, its normals smoothed over a neighbourhood that is a large share of
+// its radius from a metre or two, so they bunch more than an upright side's (a dark tin
+// lying 1.5 m away, rooms 13321: 0.33); a box's faces give 0.77 to 0.94 within 2 m
+// (rooms 13001-13060). Between the two; nearer_than_box_faces decides the rest.
+constexpr double kRoundAcrossAxis = 0.4;
 
 // A cylinder or cone open at the top (a pot, a mug, a bowl): the camera sees its inner
 // floor through the opening, up-facing points inside the side and well below the rim.
@@ -1827,12 +1834,11 @@ double flatness_across(const Samples& s, double theta) {
 }
 
 // Whether the normals may sweep round a level axis along azimuth `theta` (flatness
-// across it under kRoundSides, as an upright round side's round its own): asked before a
-// lying cylinder is fitted along it, so that no fit is spent on a box's faces. Unknown
-// normals show nothing.
+// across it under kRoundAcrossAxis): asked before a lying cylinder is fitted along it,
+// so that no fit is spent on a box's faces. Unknown normals show nothing.
 bool round_across(const Samples& s, double theta) {
   const double across = flatness_across(s, theta);
-  return across >= 0 && across < kRoundSides;
+  return across >= 0 && across < kRoundAcrossAxis;
 }
 
 // Whether a lying cylinder's normals show it, since its points alone do not: a box
