@@ -244,6 +244,80 @@ TEST(ObjectShapeRecognizer, TorusLyingFlat) {
   EXPECT_NEAR(p.dimensions_m[1], 0.02, 0.003);
 }
 
+// The strip of a ball's edge that a straight cut gives the ring beside it (fresh rooms
+// 9514): the ball's surface nearer the ring than `depth` past its own side, rising far
+// above the ring's tube.
+std::vector<Surface> ball_edge(Vec3 center, double r, double depth) {
+  std::vector<Surface> edge;
+  for (const Surface& q : sphere(center, r))
+    if (q.p.x < center.x - r + depth) edge.push_back(q);
+  return edge;
+}
+
+TEST(ObjectShapeRecognizer, TorusLyingFlatKeepsItsTubeUnderANeighboursStrip) {
+  // A ring (6 and 2 cm radii) and a strip 2 cm deep of a ball's edge touching it, up to
+  // 12 cm above the table: the torus is fitted to the points under 1.5 times the height
+  // most of them lie under (shape_torus_own_points). Fitted to every point, the strip
+  // pulls the tube up round it, or keeps the torus from being tried.
+  const Vec3 ring = on_table(0.05, 0.9, 0.02);
+  const double ball_r = 0.07;
+  std::vector<Surface> both = torus(ring, 0.06, 0.02);
+  const std::vector<Surface> strip =
+      ball_edge(on_table(0.05 + 0.08 + ball_r, 0.9, ball_r), ball_r, 0.02);
+  both.insert(both.end(), strip.begin(), strip.end());
+  const Cloud c = visible(both, 0.0015, 4);
+  const ObjectShape s = recognize(c);
+  ASSERT_FALSE(s.primitives.empty());
+  const PhysicalPrimitive& p = s.primitives[0].primitive;
+  EXPECT_EQ(p.kind, ShapeKind::torus);
+  EXPECT_NEAR(p.dimensions_m[0], 0.06, 0.006);
+  EXPECT_NEAR(p.dimensions_m[1], 0.02, 0.004);
+  ShapeRecognizerParams every_point;
+  every_point.torus_own_points = false;
+  const ObjectShape before = recognize_object_shape(c.points, c.normals, kTable, every_point);
+  const bool tube = !before.primitives.empty() &&
+                    before.primitives[0].primitive.kind == ShapeKind::torus &&
+                    std::abs(before.primitives[0].primitive.dimensions_m[1] - 0.02) < 0.004;
+  EXPECT_FALSE(tube);
+}
+
+// A cylinder lying on the table along azimuth `yaw`, its axis level at its radius.
+std::vector<Surface> lying_cylinder(Vec3 middle, double r, double length, double yaw, int n = 120) {
+  std::vector<Surface> out;
+  const Vec3 along{std::cos(yaw), 0, std::sin(yaw)}, across{-std::sin(yaw), 0, std::cos(yaw)};
+  const Vec3 axis = middle + kUp * r;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j <= n / 2; ++j) {
+      const double t = 2 * kPi * i / n, a = length * (double(j) / (n / 2) - 0.5);
+      const Vec3 radial = across * std::cos(t) + kUp * std::sin(t);
+      out.push_back({axis + along * a + radial * r, radial});
+    }
+  for (const double end : {-1.0, 1.0})
+    for (int i = 0; i < n; ++i)
+      for (int j = 1; j < n / 4; ++j) {
+        const double t = 2 * kPi * i / n, rr = r * j / (n / 4);
+        const Vec3 radial = across * std::cos(t) + kUp * std::sin(t);
+        out.push_back({axis + along * (end * length / 2) + radial * rr, along * end});
+      }
+  return out;
+}
+
+TEST(ObjectShapeRecognizer, ATinOnItsSideShorterThanWideIsALevelCylinder) {
+  // Rooms 13085 (session 43): a tin 9 cm long of 4.6 cm radius on its side, its footprint
+  // shorter along its axis than across: the lying cylinder is tried along either side of
+  // the footprint, its circle on the side's points (a lid's lie inside it and shrank it).
+  for (const double yaw : {0.3, 1.2}) {
+    const Cloud c = visible(lying_cylinder(on_table(0.05, 1.1, 0), 0.046, 0.09, yaw), 0.0015, 5);
+    const ObjectShape s = recognize(c);
+    ASSERT_FALSE(s.primitives.empty());
+    const PhysicalPrimitive& p = s.primitives[0].primitive;
+    EXPECT_EQ(p.kind, ShapeKind::cylinder) << "yaw " << yaw;
+    EXPECT_LT(std::abs(dot(normalized(p.axis), kUp)), 0.05) << "yaw " << yaw;
+    EXPECT_NEAR(p.dimensions_m[0], 0.046, 0.003) << "yaw " << yaw;
+    EXPECT_NEAR(p.dimensions_m[1], 0.09, 0.008) << "yaw " << yaw;
+  }
+}
+
 TEST(ObjectShapeRecognizer, BoxFootprintAndHeight) {
   const Cloud c = visible(box(on_table(0, 1.0, 0), 0.16, 0.09, 0.12, 0.5), 0.0015, 5);
   const ObjectShape s = recognize(c);
