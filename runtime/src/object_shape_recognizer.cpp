@@ -1797,6 +1797,25 @@ double independent_points(const Samples& s, double focal_px) {
   return n;
 }
 
+// How bunched the normals are into faces 90 degrees apart, in a plane `direction(i)`
+// gives point i's normal in (nullopt: not counted): |mean of 4x their angle|, near 1
+// for faces, near 0 for a round side; -1 without normals or with fewer than 30 counted.
+template <typename Direction>
+double normals_flatness(const Samples& s, Direction direction) {
+  if (!s.has_normals) return -1;
+  double c4 = 0, s4 = 0;
+  int n = 0;
+  for (size_t i = 0; i < s.p.size(); ++i) {
+    const std::optional<std::array<double, 2>> d = direction(i);
+    if (!d) continue;
+    const auto [cos4, sin4] = shape_residuals::fourfold((*d)[0], (*d)[1]);
+    c4 += cos4;
+    s4 += sin4;
+    ++n;
+  }
+  return n >= 30 ? len2(c4, s4) / n : -1.0;
+}
+
 // How far each normal seen lies from a box's or a lying cylinder's: sin^2 of the angle
 // between it and the model's at the nearest surface point; -1 where the normal is
 // unknown. The normals' own noise adds the same to every model, so two models' misfits
@@ -1815,22 +1834,14 @@ std::vector<double> normal_misfits(const Candidate& c, const Samples& s) {
   return out;
 }
 
-// The flatness of the normals across a level axis along azimuth `theta`: of their angles
-// in the upright plane across the axis, the caps' left out (kSideNormalAlong); -1 with
-// fewer than 30 such normals.
+// The flatness of the side normals across a level axis along azimuth `theta`: of their
+// angles in the upright plane across the axis, the caps' left out (kSideNormalAlong).
 double flatness_across(const Samples& s, double theta) {
-  if (!s.has_normals) return -1;
   const double cs = std::cos(theta), sn = std::sin(theta);
-  double c4 = 0, s4 = 0;
-  int n = 0;
-  for (size_t i = 0; i < s.p.size(); ++i) {
-    if (std::abs(cs * s.na[i] + sn * s.nb[i]) > kSideNormalAlong) continue;
-    const auto [cos4, sin4] = shape_residuals::fourfold(-sn * s.na[i] + cs * s.nb[i], s.up[i]);
-    c4 += cos4;
-    s4 += sin4;
-    ++n;
-  }
-  return n >= 30 ? len2(c4, s4) / n : -1.0;
+  return normals_flatness(s, [&](size_t i) -> std::optional<std::array<double, 2>> {
+    if (std::abs(cs * s.na[i] + sn * s.nb[i]) > kSideNormalAlong) return std::nullopt;
+    return std::array<double, 2>{-sn * s.na[i] + cs * s.nb[i], s.up[i]};
+  });
 }
 
 // Whether the normals may sweep round a level axis along azimuth `theta` (flatness
@@ -1847,12 +1858,14 @@ bool round_across(const Samples& s, double theta) {
 // kRoundNormalsSigmas standard errors of the mean difference over the object's
 // independent points: noisy normals sweep round a box's faces too (far away, or from a
 // stereo camera).
-bool nearer_than_box_faces(const Candidate& lying, const Candidate& box, const Samples& s,
-                           double focal_px) {
+// `boxes`: normal_misfits of the box (empty when it is not valid); `independent`:
+// independent_points of the object.
+bool nearer_than_box_faces(const Candidate& lying, const std::vector<double>& boxes,
+                           const Samples& s, double independent) {
   constexpr double kRoundNormalsSigmas = 1;
   if (!lying.valid) return false;
-  if (!box.valid) return true;
-  const std::vector<double> own = normal_misfits(lying, s), boxes = normal_misfits(box, s);
+  if (boxes.empty()) return true;
+  const std::vector<double> own = normal_misfits(lying, s);
   double sum = 0, sum2 = 0;
   int n = 0;
   for (size_t i = 0; i < own.size(); ++i)
@@ -1864,8 +1877,7 @@ bool nearer_than_box_faces(const Candidate& lying, const Candidate& box, const S
     }
   if (n < 2) return false;
   const double mean = sum / n, spread = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
-  const double independent = std::max(1.0, independent_points(s, focal_px));
-  return mean > kRoundNormalsSigmas * spread / std::sqrt(independent);
+  return mean > kRoundNormalsSigmas * spread / std::sqrt(std::max(1.0, independent));
 }
 
 // The least criterion among the entries (the saturated ones alone when
@@ -2248,31 +2260,29 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   // A cylinder lying on the support along either side of the box's footprint: along its
   // length (a bottle, a rolling pin) or across it (a tin on its side, shorter than wide).
   bool lying_shown = false;  // a lying cylinder whose normals show it (nearer_than_box_faces)
+  std::vector<double> box_misfits;  // the box's normal_misfits, when first asked
+  double lying_independent = -1;    // independent_points, when first asked
   if (box.valid)
     for (const double along : {box.theta, box.theta + kPi / 2}) {
       if (!round_across(s, along)) continue;
       Candidate lying =
           fit_lying_cylinder_along(s, along, box.ca, box.cb, std::max(0.005, s.top / 2), params);
-      lying.valid = lying.valid && nearer_than_box_faces(lying, box, s, params.focal_px);
+      if (lying.valid && lying_independent < 0) {
+        box_misfits = normal_misfits(box, s);
+        lying_independent = independent_points(s, params.focal_px);
+      }
+      lying.valid = lying.valid && nearer_than_box_faces(lying, box_misfits, s, lying_independent);
       lying_shown = lying_shown || lying.valid;
       cands.push_back(lying);
     }
 
   // Flat sides show as side normals bunched into at most two azimuths 90 degrees
   // apart (|mean of 4x azimuth| near 1); a round side spreads them (near 0).
-  double flatness = -1;
-  if (s.has_normals) {
-    double c4 = 0, s4 = 0;
-    int n = 0;
-    for (size_t i = 0; i < s.p.size(); ++i) {
-      if (std::abs(s.up[i]) > 0.4) continue;
-      const auto [cos4, sin4] = shape_residuals::fourfold(s.na[i], s.nb[i]);
-      c4 += cos4;
-      s4 += sin4;
-      ++n;
-    }
-    if (n >= 30) flatness = len2(c4, s4) / n;
-  }
+  const double flatness =
+      normals_flatness(s, [&](size_t i) -> std::optional<std::array<double, 2>> {
+        if (std::abs(s.up[i]) > 0.4) return std::nullopt;
+        return std::array<double, 2>{s.na[i], s.nb[i]};
+      });
   // The score is in units of the tolerance, which grows with sigma_z: a margin that is
   // a share of it asks a far object for a residual gain many times larger in
   // millimetres than a near one (at 2 m, 13x that at 1 m), while the shapes differ by
