@@ -88,6 +88,7 @@ Result<ScanParams> parse_scan_config(std::string_view text, std::string_view ori
       {"touching_waist_share", Kind::unit_share, &p.touching_waist_share},
       {"touching_misfit_cut", Kind::flag, nullptr, nullptr, 0, &p.touching_misfit_cut},
       {"touching_level_cut", Kind::flag, nullptr, nullptr, 0, &p.touching_level_cut},
+      {"touching_width_step", Kind::flag, nullptr, nullptr, 0, &p.touching_width_step},
       {"touching_min_part_size_m", Kind::positive, &p.touching_min_part_size_m},
       {"threads", Kind::whole, nullptr, &p.threads, 1},
       {"max_planes", Kind::whole, nullptr, &p.max_planes, 1},

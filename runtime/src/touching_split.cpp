@@ -378,17 +378,29 @@ bool beside_primitive(const Frame& f, const ScanCluster& c, const std::vector<ch
   return norm(off - n * dot(n, off)) > 0.5 * footprint_radius(*fit);
 }
 
+// An upright primitive's axis lies within about 15 degrees of its support's normal.
+constexpr double kUprightAxisCos = 0.966;
+
+// Whether a fit is an upright cylinder, cone or box on a support of normal n: a solid
+// whose outline across the line of sight is a straight line in height (width_step).
+bool upright_solid(const PhysicalPrimitive& fit, Vec3 n) {
+  return (fit.kind == ShapeKind::cylinder || fit.kind == ShapeKind::cone ||
+          fit.kind == ShapeKind::box) &&
+         std::abs(dot(normalized(fit.axis), n)) >= kUprightAxisCos;
+}
+
 // Parts a and b refitted (their normals into na, nb) with their criterion's terms; empty
-// when either has no shape. The second part first: along a misfit it is what the one
-// primitive leaves out, often no body (a bottle's handle and veil on the milk frame),
-// and the first part's refit is then not needed.
+// when either has no shape, or b's fails `keep_b` (when given). The second part first:
+// along a misfit it is what the one primitive leaves out, often no body (a bottle's
+// handle and veil on the milk frame), and the first part's refit is then not needed.
 std::optional<std::pair<FitTerms, FitTerms>> refit_parts(
     const Frame& f, ScanCluster& a, ScanCluster& b, std::vector<Vec3>& na, std::vector<Vec3>& nb,
     const std::function<void(ScanCluster&, std::vector<Vec3>&)>& refit,
-    const ShapeRecognizerParams& shape) {
+    const ShapeRecognizerParams& shape,
+    const std::function<bool(const ScanCluster&, const FitTerms&)>& keep_b = {}) {
   refit(b, nb);
   const FitTerms tb = terms_of(f, b, shape.depth_noise);
-  if (!tb.recognised) return std::nullopt;
+  if (!tb.recognised || (keep_b && !keep_b(b, tb))) return std::nullopt;
   refit(a, na);
   const FitTerms ta = terms_of(f, a, shape.depth_noise);
   if (!ta.recognised) return std::nullopt;
@@ -456,27 +468,76 @@ std::optional<TouchingCut> refit_cut(
   return TouchingCut{std::move(a), std::move(b), std::move(na), std::move(nb)};
 }
 
+// The cluster cut level at `cut` (a height over its support; `height` its pixels'),
+// one body standing on the other: the parts refitted, kept when both are explained, two
+// primitives beat one by the criterion and the upper stands over the lower's footprint.
+// The upper part is fitted on the cut as its plane (the lower one's top). `outline`:
+// what the cluster's outline says for two bodies against one, on the criterion's scale
+// (width_step's; 0: nothing); its model, two upright solids, must then hold for the two
+// parts' fits (a milk carton's gable, fitted lying on the body, is its top).
+std::optional<TouchingCut> level_cut_at(
+    const Frame& f, const ScanCluster& cluster, const std::vector<double>& height, double cut,
+    double outline, const FitTerms& whole, double least,
+    const std::function<void(ScanCluster&, std::vector<Vec3>&)>& refit,
+    const ShapeRecognizerParams& shape, const TouchingSplitParams& params) {
+  const Vec3 n = cluster.support.normal;
+  ScanCluster a, b;
+  a.support = cluster.support;
+  b.support = Plane{n, cluster.support.d - cut};
+  for (size_t k = 0; k < height.size(); ++k)
+    (height[k] >= cut ? b : a).pixels.push_back(cluster.pixels[k]);
+  if (static_cast<double>(std::min(a.pixels.size(), b.pixels.size())) < least) return std::nullopt;
+  // The upper part is fitted first (refit_parts), the lower only when the upper is a
+  // body: explained, and with the outline's model an upright solid.
+  const auto upper_body = [&](const ScanCluster& part, const FitTerms& t) {
+    return t.coverage >= params.min_part_coverage &&
+           (outline <= 0 || upright_solid(part.shape.primitives.front().primitive, n));
+  };
+  std::vector<Vec3> na, nb;
+  const std::optional<std::pair<FitTerms, FitTerms>> terms =
+      refit_parts(f, a, b, na, nb, refit, shape, upper_body);
+  if (!terms) return std::nullopt;
+  const auto& [ta, tb] = *terms;
+  if (!both_recognised(ta, tb, params.min_part_coverage)) return std::nullopt;
+  const Criterion k = criterion(whole, ta, tb, shape);
+  if (!(k.two - outline < k.one)) return std::nullopt;
+  const ShapeFit &fa = a.shape.primitives.front(), &fb = b.shape.primitives.front();
+  if (outline > 0 && !upright_solid(fa.primitive, n)) return std::nullopt;
+  // Two bodies of different heights side by side step in outline as a stack does, but
+  // the lower part is then two bodies, and stands on two feet; a stack's lower part is
+  // one (the touching cuts' test: touching_split.h).
+  if (outline > 0 && stands_on_two_feet(f, a, params)) return std::nullopt;
+  // The upper body stands over the lower's footprint.
+  const Vec3 apart = fb.primitive.center - fa.primitive.center;
+  if (norm(apart - n * dot(n, apart)) > footprint_radius(fa)) return std::nullopt;
+  b.support = cluster.support;  // the scanner's support; the stacking refits it on a's top
+  return TouchingCut{std::move(a), std::move(b), std::move(na), std::move(nb)};
+}
+
+// Each pixel's height over the cluster's support.
+std::vector<double> heights_of(const Frame& f, const ScanCluster& cluster) {
+  std::vector<double> height(cluster.pixels.size());
+  for (size_t k = 0; k < cluster.pixels.size(); ++k) {
+    const PointXYZRGB& p = f.points[static_cast<size_t>(cluster.pixels[k])];
+    height[k] = dot(cluster.support.normal, Vec3{p.x, p.y, p.z}) + cluster.support.d;
+  }
+  return height;
+}
+
 // Stacked bodies one primitive explains poorly (one standing on the other, too far for
 // the segmenter's crease test): what the one primitive leaves out lies above or below
 // what it explains. The cut is level, at the left-out pixels' lowest heights when they
 // lie higher than the rest (the upper body left out) or at their highest when lower,
 // with two thirds of the explained pixels on the other side; each part at least
-// level_min_height_m tall. The upper part is fitted on that height as its plane
-// (the lower one's top), and the two are kept when both are explained, two primitives
-// beat one by the criterion, and the upper stands over the lower's footprint.
+// level_min_height_m tall; then level_cut_at.
 std::optional<TouchingCut> level_misfit_cut(
     const Frame& f, const ScanCluster& cluster, const std::vector<char>& left_out,
     const FitTerms& whole, double least,
     const std::function<void(ScanCluster&, std::vector<Vec3>&)>& refit,
     const ShapeRecognizerParams& shape, const TouchingSplitParams& params) {
-  const Vec3 n = cluster.support.normal;
-  const double d = cluster.support.d;
-  std::vector<double> height(cluster.pixels.size()), out_h, kept_h;
-  for (size_t k = 0; k < cluster.pixels.size(); ++k) {
-    const PointXYZRGB& p = f.points[static_cast<size_t>(cluster.pixels[k])];
-    height[k] = dot(n, Vec3{p.x, p.y, p.z}) + d;
-    (left_out[k] ? out_h : kept_h).push_back(height[k]);
-  }
+  const std::vector<double> height = heights_of(f, cluster);
+  std::vector<double> out_h, kept_h;
+  for (size_t k = 0; k < height.size(); ++k) (left_out[k] ? out_h : kept_h).push_back(height[k]);
   if (out_h.empty() || kept_h.empty()) return std::nullopt;
   const bool upper_left_out = quantile(out_h, 0.5) > quantile(kept_h, 0.5);
   const double cut = upper_left_out ? quantile(out_h, 0.05) : quantile(out_h, 0.95);
@@ -490,45 +551,218 @@ std::optional<TouchingCut> level_misfit_cut(
   const auto other_side = std::count_if(
       kept_h.begin(), kept_h.end(), [&](double h) { return upper_left_out ? h < cut : h >= cut; });
   if (3 * other_side < 2 * static_cast<std::ptrdiff_t>(kept_h.size())) return std::nullopt;
-  ScanCluster a, b;
-  a.support = cluster.support;
-  b.support = Plane{n, d - cut};
-  for (size_t k = 0; k < height.size(); ++k)
-    (height[k] >= cut ? b : a).pixels.push_back(cluster.pixels[k]);
-  if (static_cast<double>(std::min(a.pixels.size(), b.pixels.size())) < least) return std::nullopt;
-  std::vector<Vec3> na, nb;
-  const std::optional<std::pair<FitTerms, FitTerms>> terms =
-      refit_parts(f, a, b, na, nb, refit, shape);
-  if (!terms) return std::nullopt;
-  const auto& [ta, tb] = *terms;
-  if (!both_recognised(ta, tb, params.min_part_coverage)) return std::nullopt;
-  const Criterion k = criterion(whole, ta, tb, shape);
-  if (!(k.two < k.one)) return std::nullopt;
-  // The upper body stands over the lower's footprint.
-  const ShapeFit &fa = a.shape.primitives.front(), &fb = b.shape.primitives.front();
-  const Vec3 apart = fb.primitive.center - fa.primitive.center;
-  if (norm(apart - n * dot(n, apart)) > footprint_radius(fa)) return std::nullopt;
-  b.support = cluster.support;  // the scanner's support; the stacking refits it on a's top
-  return TouchingCut{std::move(a), std::move(b), std::move(na), std::move(nb)};
+  return level_cut_at(f, cluster, height, cut, 0, whole, least, refit, shape, params);
 }
 
-}  // namespace
+// The silhouette's slices are this many pixel footprints tall, each seen in at least
+// kStepSlicePoints pixels; each side of a step spans kStepMinSlices slices or more (a
+// line through fewer is at the mercy of one slice: a rim, a handle's end).
+constexpr double kStepSliceFootprints = 2;
+constexpr int kStepSlicePoints = 3;
+constexpr int kStepMinSlices = 5;
+// ... and shows its outline in at least this share of the slices it spans.
+constexpr double kStepSeenShare = 0.5;
+// A step in width is at least a pixel on either side (the silhouette's quantisation), and
+// wider than a lid or a label's ridge stands out of one body (a jar's lid: 2-3 mm a side).
+constexpr double kStepMinFootprints = 2;
+constexpr double kStepMinWidth_m = 0.01;
+// An edge pixel is hidden where a pixel of something else within kOccluderReachPx beyond
+// it along its image row, outwards, lies nearer than it by kOccluderSigmas of the depth
+// noise (a centimetre at least): there the outline is the nearer object's, not the
+// cluster's (the pixel next to it may mix the two depths).
+constexpr int kOccluderReachPx = 6;
+constexpr double kOccluderSigmas = 3;
+constexpr double kOccluderLeast_m = 0.01;
 
-std::optional<TouchingCut> touching_cut(
-    const Frame& f, const ScanCluster& cluster,
-    const std::function<void(ScanCluster&, std::vector<Vec3>&)>& refit,
-    const std::function<bool(const ScanCluster&)>& seen_whole, const ShapeRecognizerParams& shape,
-    const TouchingSplitParams& params) {
-  const FitTerms whole = terms_of(f, cluster, shape.depth_noise);
-  // A cylinder lying on its side is what two round objects side by side look like
-  // together (two balls, a ball against a ring): however much of them it explains, the
-  // cut is tried, and the criterion between one body and two decides.
-  if ((whole.coverage >= params.max_whole_coverage && !whole.level_cylinder) ||
-      !seen_whole(cluster))
+// Whether something nearer hides the cluster beyond its edge pixel i, looking along the
+// image row in direction `step` (+1 or -1); `own`: the cluster's pixels, sorted.
+bool occluded_edge(const Frame& f, int i, int step, const std::vector<int>& own,
+                   const DepthNoise& noise) {
+  const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
+  const double nearer = p.z - std::max(kOccluderLeast_m, kOccluderSigmas * noise.sigma_z(p.z));
+  const int x = i % f.width;
+  for (int k = 1; k <= kOccluderReachPx; ++k) {
+    const int xk = x + k * step;
+    if (xk < 0 || xk >= f.width) return false;
+    const int j = i + k * step;
+    const PointXYZRGB& q = f.points[static_cast<size_t>(j)];
+    if (has_depth(q) && q.z < nearer && !std::binary_search(own.begin(), own.end(), j)) return true;
+  }
+  return false;
+}
+
+// The top face and its rim lie within this many sigmas of the depth noise of the
+// cluster's top (the height 99 % of its pixels lie under): a rim pixel mixes the face
+// and the side, and its noise runs along its ray, which grazes the rim.
+constexpr double kTopFaceSigmas = 3;
+
+// Least-squares line w = a + b h over slices, from their sums; its residual sum of
+// squares, and its value at h.
+struct LineSums {
+  double n = 0, h = 0, hh = 0, w = 0, hw = 0, ww = 0;
+  void add(double x, double y) { n += 1, h += x, hh += x * x, w += y, hw += x * y, ww += y * y; }
+  LineSums minus(const LineSums& o) const {
+    return {n - o.n, h - o.h, hh - o.hh, w - o.w, hw - o.hw, ww - o.ww};
+  }
+  std::array<double, 2> line() const {
+    const double det = n * hh - h * h;
+    if (!(std::abs(det) > 1e-18)) return {n > 0 ? w / n : 0, 0};
+    const double b = (n * hw - h * w) / det;
+    return {(w - b * h) / n, b};
+  }
+  double rss() const {
+    const auto [a, b] = line();
+    return std::max(0.0, ww - 2 * a * w - 2 * b * hw + a * a * n + 2 * a * b * h + b * b * hh);
+  }
+};
+
+// The outline of a cluster's height in slices: each slice's height and its width along
+// `across` (level, across the line of sight), for the slices seen in kStepSlicePoints
+// pixels or more below `top_face`, whose two edges no nearer object hides.
+std::vector<std::array<double, 2>> outline_widths(const Frame& f, const ScanCluster& cluster,
+                                                  const std::vector<double>& height, Vec3 across,
+                                                  double low, double slice, double top_face,
+                                                  const DepthNoise& noise) {
+  const auto slices = static_cast<size_t>((top_face - low) / slice) + 1;
+  std::vector<double> lo(slices, 1e9), hi(slices, -1e9);
+  std::vector<int> count(slices, 0), lo_px(slices, -1), hi_px(slices, -1);
+  for (size_t k = 0; k < height.size(); ++k) {
+    if (height[k] > top_face) continue;
+    const int i = cluster.pixels[k];
+    const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
+    const double u = dot(across, Vec3{p.x, p.y, p.z});
+    const auto j = std::min(slices - 1, static_cast<size_t>((height[k] - low) / slice));
+    if (u < lo[j]) lo[j] = u, lo_px[j] = i;
+    if (u > hi[j]) hi[j] = u, hi_px[j] = i;
+    ++count[j];
+  }
+  std::vector<int> own = cluster.pixels;
+  std::sort(own.begin(), own.end());
+  const int out = across.x >= 0 ? 1 : -1;  // the image column's step as u grows (+x right)
+  std::vector<std::array<double, 2>> widths;
+  for (size_t j = 0; j < slices; ++j)
+    if (count[j] >= kStepSlicePoints && !occluded_edge(f, lo_px[j], -out, own, noise) &&
+        !occluded_edge(f, hi_px[j], out, own, noise))
+      widths.push_back({low + (static_cast<double>(j) + 0.5) * slice, hi[j] - lo[j]});
+  return widths;
+}
+
+// The best break of an outline into two lines: the slices below it, its height, the
+// step between the two lines there and their residuals together (none found: no slices
+// below). Each side spans kStepMinSlices slices, min_height of the cluster's height from
+// `low` or up to `high`, and shows its outline in kStepSeenShare of the slices it spans.
+struct OutlineBreak {
+  size_t below = 0;
+  double height = 0, step = 0, rss = 0;
+};
+OutlineBreak best_break(const std::vector<std::array<double, 2>>& widths, double low, double high,
+                        double top_face, double slice, double min_height) {
+  const size_t m = widths.size();
+  LineSums all;
+  std::vector<LineSums> below(m + 1);  // sums over the first k slices
+  for (size_t k = 0; k < m; ++k) {
+    all.add(widths[k][0], widths[k][1]);
+    below[k + 1] = all;
+  }
+  OutlineBreak best{0, 0, 0, all.rss()};
+  for (size_t k = kStepMinSlices; k + kStepMinSlices <= m; ++k) {
+    const double cut = 0.5 * (widths[k - 1][0] + widths[k][0]);
+    if (cut - low < min_height || high - cut < min_height) continue;
+    if (static_cast<double>(k) < kStepSeenShare * (cut - low) / slice ||
+        static_cast<double>(m - k) < kStepSeenShare * (top_face - cut) / slice)
+      continue;
+    const LineSums upper = all.minus(below[k]);
+    const double rss = below[k].rss() + upper.rss();
+    if (rss >= best.rss) continue;
+    const auto [al, bl] = below[k].line();
+    const auto [au, bu] = upper.line();
+    best = {k, cut, (au + bu * cut) - (al + bl * cut), rss};
+  }
+  return best;
+}
+
+// Where an upright cluster's silhouette steps in width: a body standing on one wider or
+// narrower than itself, too far for the crease test and explained well by one primitive
+// (a tin on a wider tin is one cone through both at 2 m). The width across the line of
+// sight, on the support, of each slice of the cluster's height is a straight line in
+// height for one solid of revolution or box (constant for a cylinder, sloped for a
+// cone); two lines meeting in a step of kStepMinFootprints pixels and kStepMinWidth_m,
+// which the two parts' median widths show too, chosen over one by the Bayesian
+// information criterion over the slices (two more lines' parameters and the break),
+// mark two bodies. Returns the step's height over the support and that criterion's
+// margin: the outline's evidence for two bodies, which the depth residuals barely hold
+// far away (the step is lateral, where a pixel is several times finer than the depth
+// noise at 2 m).
+struct WidthStep {
+  double height = 0, evidence = 0;
+};
+std::optional<WidthStep> width_step(const Frame& f, const ScanCluster& cluster,
+                                    const std::vector<double>& height, const FitTerms& whole,
+                                    const TouchingSplitParams& params) {
+  // One primitive explains it: a body with a neck (a bottle) is what the recognizer
+  // already made of a narrower part above a wider one.
+  if (cluster.shape.primitives.size() != 1 || height.empty()) return std::nullopt;
+  const Vec3 n = cluster.support.normal;
+  if (!upright_solid(cluster.shape.primitives.front().primitive, n)) return std::nullopt;
+  Vec3 mean{0, 0, 0};
+  for (int i : cluster.pixels) {
+    const PointXYZRGB& p = f.points[static_cast<size_t>(i)];
+    mean = mean + Vec3{p.x, p.y, p.z};
+  }
+  const double pixel = whole.depth / whole.focal_px, slice = kStepSliceFootprints * pixel;
+  const auto [low, high] = std::minmax_element(height.begin(), height.end());
+  // A top face seen from above spans the whole cross-section, the sides below only what
+  // the camera sees of it (a box turned to the camera: its far corners), and the rim's
+  // pixels narrow the outline's last slices: the face's and the rim's are left out.
+  const double top_face =
+      quantile(height, 0.99) - slice - kTopFaceSigmas * whole.noise.sigma_z(whole.depth);
+  if (top_face - *low < 2 * kStepMinSlices * slice || *high - *low > 4096 * slice)
     return std::nullopt;
+  const std::vector<std::array<double, 2>> widths = outline_widths(
+      f, cluster, height, normalized(cross(n, mean)), *low, slice, top_face, whole.noise);
+  const size_t m = widths.size();
+  if (m < 2 * kStepMinSlices) return std::nullopt;
+  const OutlineBreak cut =
+      best_break(widths, *low, *high, top_face, slice, params.level_min_height_m);
+  const double least_step = std::max(kStepMinFootprints * pixel, kStepMinWidth_m);
+  if (cut.below == 0 || std::abs(cut.step) < least_step) return std::nullopt;
+  // The step holds over most of each part: their median widths differ by as much, the
+  // same way (a cylinder's rim narrowing its last slices is no narrower body on it).
+  std::vector<double> lower_w, upper_w;
+  for (size_t k = 0; k < m; ++k) (k < cut.below ? lower_w : upper_w).push_back(widths[k][1]);
+  const double medians = quantile(upper_w, 0.5) - quantile(lower_w, 0.5);
+  if (medians * cut.step <= 0 || std::abs(medians) < least_step) return std::nullopt;
+  // Two lines and the break (three more parameters) against one line, over m slices.
+  // Neither model's residuals fall below the quantisation of the slices' two edges to
+  // the pixel grid (each uniform over a pixel: a sixth of a pixel squared together per
+  // slice); widths a whole number of pixels apart would otherwise fit two lines exactly.
+  LineSums all;
+  for (const auto& [h, w] : widths) all.add(h, w);
+  const double dm = static_cast<double>(m), least_rss = dm * pixel * pixel / 6;
+  const double evidence =
+      dm * std::log(std::max(all.rss(), least_rss) / std::max(cut.rss, least_rss)) -
+      3 * std::log(dm);
+  if (!(evidence > 0)) return std::nullopt;
+  return WidthStep{cut.height, evidence};
+}
+
+// The smaller part's fewest pixels: min_part_share of the cluster's and those of a body
+// min_part_size_m wide at its depth.
+double least_part_pixels(const ScanCluster& cluster, const FitTerms& whole,
+                         const TouchingSplitParams& params) {
   const int min_points = min_part_pixels(params.min_part_size_m, whole.depth, whole.focal_px);
-  const double least = std::max(params.min_part_share * static_cast<double>(cluster.pixels.size()),
-                                static_cast<double>(min_points));
+  return std::max(params.min_part_share * static_cast<double>(cluster.pixels.size()),
+                  static_cast<double>(min_points));
+}
+
+// The cuts along what one primitive leaves out of a cluster it explains poorly: the
+// means' cut, else along the misfit, beside the primitive or level (touching_cut).
+std::optional<TouchingCut> misfit_cuts(
+    const Frame& f, const ScanCluster& cluster, const FitTerms& whole,
+    const std::function<void(ScanCluster&, std::vector<Vec3>&)>& refit,
+    const ShapeRecognizerParams& shape, const TouchingSplitParams& params) {
+  const int min_points = min_part_pixels(params.min_part_size_m, whole.depth, whole.focal_px);
+  const double least = least_part_pixels(cluster, whole, params);
   const MeansCut means = two_means(f, cluster, params.min_part_share, min_points);
   // Explained that well, it is tried only on two feet: the refits cost as much whether
   // the cut is kept or not.
@@ -557,6 +791,33 @@ std::optional<TouchingCut> touching_cut(
   if (params.level_cut)
     return level_misfit_cut(f, cluster, left_out, whole, least, refit, shape, params);
   return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<TouchingCut> touching_cut(
+    const Frame& f, const ScanCluster& cluster,
+    const std::function<void(ScanCluster&, std::vector<Vec3>&)>& refit,
+    const std::function<bool(const ScanCluster&)>& seen_whole, const ShapeRecognizerParams& shape,
+    const TouchingSplitParams& params) {
+  const FitTerms whole = terms_of(f, cluster, shape.depth_noise);
+  // A cylinder lying on its side is what two round objects side by side look like
+  // together (two balls, a ball against a ring): however much of them it explains, the
+  // cut is tried, and the criterion between one body and two decides.
+  const bool explained_poorly = whole.coverage < params.max_whole_coverage || whole.level_cylinder;
+  if (explained_poorly) {
+    if (!seen_whole(cluster)) return std::nullopt;
+    if (std::optional<TouchingCut> cut = misfit_cuts(f, cluster, whole, refit, shape, params))
+      return cut;
+  }
+  // A far stack one primitive explains well shows where its silhouette steps in width
+  // (one it explains poorly has had the level cut along its misfit).
+  if (!params.width_step_cut || explained_poorly) return std::nullopt;
+  const std::vector<double> height = heights_of(f, cluster);
+  const std::optional<WidthStep> step = width_step(f, cluster, height, whole, params);
+  if (!step || !seen_whole(cluster)) return std::nullopt;
+  return level_cut_at(f, cluster, height, step->height, step->evidence, whole,
+                      least_part_pixels(cluster, whole, params), refit, shape, params);
 }
 
 bool stands_on_two_feet(const Frame& f, const ScanCluster& cluster,

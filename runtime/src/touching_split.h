@@ -14,7 +14,10 @@
 // out, when that lies beside it. Either cut is kept only when the two parts stand side
 // by side, not round one axis. When what the one primitive leaves out lies above or
 // below the rest instead, the cut is level there (one body standing on the other), kept
-// by the same criterion when the upper stands over the lower's footprint. A cluster its
+// by the same criterion when the upper stands over the lower's footprint. An upright
+// cluster the one primitive explains well, whose outline across the line of sight steps
+// in width at one height, is cut level there too (a far stack that one cone explains
+// whole), the outline's evidence added to the criterion's. A cluster its
 // one primitive explains nearly well enough is
 // tried only when it stands on two feet (stands_on_two_feet): the refits cost as much
 // whether the cut is kept or not. Private to the scanner.
@@ -77,6 +80,10 @@ struct TouchingSplitParams {
   // level_min_height_m tall (the segmenter's, SegmenterParams::level_min_height_m).
   bool level_cut = true;
   double level_min_height_m = 0.03;
+  // An upright cluster its one primitive explains well (max_whole_coverage or more)
+  // whose outline steps in width at one height is cut level there (a far stack one cone
+  // explains whole; ScanParams::touching_width_step), kept as the level cut is.
+  bool width_step_cut = true;
 };
 
 // The cut of one cluster, when it is worth it: its two parts, fitted, and their normals.
