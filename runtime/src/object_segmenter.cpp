@@ -158,7 +158,27 @@ std::optional<LevelCut> level_crease_cut(const Frame& f, const std::vector<int>&
   return LevelCut{hi - params.arm_m, under.front() - margin, under.back() + margin};
 }
 
+// The crease test's threshold at depth z: min_crease_depth_m, or noise_factor times the
+// noise of its depth combination (each depth a mean of up to 9 pixels: z_p -
+// harmonic(z_a, z_b) has about sqrt(1.5) / 3 of one pixel's noise).
+double crease_threshold(double z, const SegmenterParams& params) {
+  return std::max(params.min_crease_depth_m,
+                  params.noise_factor * 0.41 * params.depth_noise.sigma_z(z));
+}
+
+// Whether a right-angle crease (right_angle_depth_share of the arm, arm_px pixels at
+// depth z) stays under the test's threshold.
+bool blind_at(double threshold, double arm_px, double z, double focal_px,
+              const SegmenterParams& params) {
+  return threshold > params.right_angle_depth_share * arm_px * z / focal_px;
+}
+
 }  // namespace
+
+bool crease_test_blind(double z, double focal_px, const SegmenterParams& params) {
+  const double arm_px = std::max(params.min_arm_px, params.arm_m * focal_px / z);
+  return blind_at(crease_threshold(z, params), arm_px, z, focal_px, params);
+}
 
 std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<int>& grid_pixels,
                                             int step, double tolerance_m,
@@ -244,13 +264,10 @@ std::vector<std::vector<int>> split_cluster(const Frame& f, const std::vector<in
     if (ip <= 0) continue;
     const double z = 1.0 / ip;
     const double arm_px = std::max(params.min_arm_px, params.arm_m * fx / z);
-    // Each depth is a mean of up to 9 pixels: z_p - harmonic(z_a, z_b) has about
-    // sqrt(1.5) / 3 of one pixel's noise.
-    const double threshold = std::max(params.min_crease_depth_m,
-                                      params.noise_factor * 0.41 * params.depth_noise.sigma_z(z));
+    const double threshold = crease_threshold(z, params);
     // Where even a right-angle crease would not stand out of the noise (beyond about
     // 2 m on a Kinect) the test cannot tell: such pixels are never creases.
-    if (threshold > params.right_angle_depth_share * arm_px * z / fx) continue;
+    if (blind_at(threshold, arm_px, z, fx, params)) continue;
     // Arm lengths in pixels along the rows and columns and along the diagonals.
     const int r_axis = std::max(1, round_arm(arm_px));
     const int r_diagonal = std::max(1, round_arm(arm_px / std::sqrt(2.0)));

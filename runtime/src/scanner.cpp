@@ -3470,7 +3470,8 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
                                      .misfit_cut = params.touching_misfit_cut,
                                      .level_cut = params.touching_level_cut,
                                      .level_min_height_m = params.segment.level_min_height_m,
-                                     .width_step_cut = params.touching_width_step};
+                                     .width_step_cut = params.touching_width_step,
+                                     .segment = params.segment};
   std::vector<std::optional<TouchingCut>> cuts(clusters.size());
   parallel_for(clusters.size(), [&](size_t c) {
     ScanCluster& sc = result.clusters[c];

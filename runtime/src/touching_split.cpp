@@ -810,12 +810,15 @@ std::optional<TouchingCut> touching_cut(
     if (std::optional<TouchingCut> cut = misfit_cuts(f, cluster, whole, refit, shape, params))
       return cut;
   }
-  // A far stack one primitive explains well shows where its silhouette steps in width
-  // (one it explains poorly has had the level cut along its misfit).
-  if (!params.width_step_cut || explained_poorly) return std::nullopt;
+  // A far stack one primitive explains well shows where its silhouette steps in width.
+  // One it explains poorly has had the level cut along its misfit; where the crease test
+  // is blind (beyond about 2 m), the outline is tried on it too.
+  if (!params.width_step_cut ||
+      (explained_poorly && !crease_test_blind(whole.depth, whole.focal_px, params.segment)))
+    return std::nullopt;
   const std::vector<double> height = heights_of(f, cluster);
   const std::optional<WidthStep> step = width_step(f, cluster, height, whole, params);
-  if (!step || !seen_whole(cluster)) return std::nullopt;
+  if (!step || (!explained_poorly && !seen_whole(cluster))) return std::nullopt;
   return level_cut_at(f, cluster, height, step->height, step->evidence, whole,
                       least_part_pixels(cluster, whole, params), refit, shape, params);
 }

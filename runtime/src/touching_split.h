@@ -82,8 +82,11 @@ struct TouchingSplitParams {
   double level_min_height_m = 0.03;
   // An upright cluster its one primitive explains well (max_whole_coverage or more)
   // whose outline steps in width at one height is cut level there (a far stack one cone
-  // explains whole; ScanParams::touching_width_step), kept as the level cut is.
+  // explains whole; ScanParams::touching_width_step), kept as the level cut is; one it
+  // explains worse too where the segmenter's crease test is blind (crease_test_blind).
   bool width_step_cut = true;
+  // The segmenter's (ScanParams::segment), for where its crease test is blind.
+  SegmenterParams segment;
 };
 
 // The cut of one cluster, when it is worth it: its two parts, fitted, and their normals.

@@ -12,6 +12,7 @@
 #include <map>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -893,27 +894,44 @@ int stacked_between(const SyntheticScene& s, const SyntheticFrame& f, double nea
   return -1;
 }
 
-// A tin standing on a wider tin on the floor 2.25 m away (rooms 11041, half the tops
-// stacked): one cone explains the two whole, so no misfit shows a stack, but their
-// outline steps in width where the upper tin stands (touching_split.h, width_step): both
-// are found, and reported one on the other; not without the outline's step.
-TEST(ScannerRooms, AFarStackOneConeExplainsIsCutWhereItsOutlineSteps) {
-  SyntheticSceneParams p = room_scene_params(11041);
+// The upper object of rooms `seed` (half the tops stacked) standing between near and far
+// metres away, and the one under it: how many clusters each is the most of, with the
+// scan's defaults and with the outline's step off.
+struct StackPieces {
+  int upper = 0, lower = 0, upper_without_step = 0;
+};
+StackPieces stack_pieces(std::uint64_t seed, double near, double far) {
+  SyntheticSceneParams p = room_scene_params(seed);
   p.stacked_share = 0.5;
   const SyntheticScene s = room(p);
   const SyntheticFrame f = render_scene(s);
-  const int upper = stacked_between(s, f, 2.0, 2.5);
-  ASSERT_GE(upper, 0);
-  const int lower = s.objects[static_cast<std::size_t>(upper)].on_object;
+  const int upper = stacked_between(s, f, near, far);
+  EXPECT_GE(upper, 0) << seed;
+  if (upper < 0) return {};
   const Result<ScanResult> scan = scan_frame(f.frame, {});
-  ASSERT_TRUE(scan.ok());
-  EXPECT_EQ(pieces_of(f, *scan, upper), 1);
-  EXPECT_EQ(pieces_of(f, *scan, lower), 1);
   ScanParams without;
   without.touching_width_step = false;
   const Result<ScanResult> one = scan_frame(f.frame, without);
-  ASSERT_TRUE(one.ok());
-  EXPECT_EQ(pieces_of(f, *one, upper), 0);
+  EXPECT_TRUE(scan.ok() && one.ok()) << seed;
+  if (!scan.ok() || !one.ok()) return {};
+  return {pieces_of(f, *scan, upper),
+          pieces_of(f, *scan, s.objects[static_cast<std::size_t>(upper)].on_object),
+          pieces_of(f, *one, upper)};
+}
+
+// A tin standing on a wider tin on the floor 2.25 m away (rooms 11041): one cone explains
+// the two whole, so no misfit shows a stack, but their outline steps in width where the
+// upper tin stands (touching_split.h, width_step): both are found; not without the
+// outline's step. And a tin on a box 2.17 m away (rooms 11040), which one box explains
+// poorly but whose misfit does not lie above the rest: beyond the crease test's reach
+// the outline is tried on it too.
+TEST(ScannerRooms, AFarStackIsCutWhereItsOutlineSteps) {
+  for (const auto& [seed, near, far] : {std::tuple{11041, 2.0, 2.5}, std::tuple{11040, 2.1, 2.3}}) {
+    const StackPieces pieces = stack_pieces(static_cast<std::uint64_t>(seed), near, far);
+    EXPECT_EQ(pieces.upper, 1) << seed;
+    EXPECT_EQ(pieces.lower, 1) << seed;
+    EXPECT_EQ(pieces.upper_without_step, 0) << seed;
+  }
 }
 
 // Single bodies whose outline steps for another reason are not cut: a tin 1.05 m away

@@ -69,6 +69,11 @@ struct SegmenterParams {
   int level_min_part_points = 300;
 };
 
+// Whether the crease test cannot see a right-angle crease at depth z (its threshold,
+// noise_factor times the noise of its depths, above right_angle_depth_share of the arm):
+// beyond about 2 m on a Kinect. `focal_px`: the camera's.
+bool crease_test_blind(double z, double focal_px, const SegmenterParams& params);
+
 // One cluster on the strided grid (pixel indices into frame.points, every `step`-th
 // row and column) split into its objects; returns the cluster itself when it holds
 // one. `tolerance_m`: grid neighbours farther apart than this in 3D never join.
