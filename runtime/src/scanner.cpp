@@ -3469,7 +3469,6 @@ Result<ScanResult> scan_frame(const Frame& input, const ScanParams& given, ScanW
                                      .waist_share = params.touching_waist_share,
                                      .misfit_cut = params.touching_misfit_cut,
                                      .level_cut = params.touching_level_cut,
-                                     .level_min_height_m = params.segment.level_min_height_m,
                                      .width_step_cut = params.touching_width_step,
                                      .segment = params.segment};
   std::vector<std::optional<TouchingCut>> cuts(clusters.size());

@@ -529,7 +529,7 @@ std::vector<double> heights_of(const Frame& f, const ScanCluster& cluster) {
 // what it explains. The cut is level, at the left-out pixels' lowest heights when they
 // lie higher than the rest (the upper body left out) or at their highest when lower,
 // with two thirds of the explained pixels on the other side; each part at least
-// level_min_height_m tall; then level_cut_at.
+// the segmenter's level_min_height_m tall; then level_cut_at.
 std::optional<TouchingCut> level_misfit_cut(
     const Frame& f, const ScanCluster& cluster, const std::vector<char>& left_out,
     const FitTerms& whole, double least,
@@ -543,7 +543,8 @@ std::optional<TouchingCut> level_misfit_cut(
   const double cut = upper_left_out ? quantile(out_h, 0.05) : quantile(out_h, 0.95);
   double low = cut, high = cut;
   for (double h : height) low = std::min(low, h), high = std::max(high, h);
-  if (cut - low < params.level_min_height_m || high - cut < params.level_min_height_m)
+  if (cut - low < params.segment.level_min_height_m ||
+      high - cut < params.segment.level_min_height_m)
     return std::nullopt;
   // What the one primitive explains lies on the other side, two thirds of it at least
   // (as misfit_on_one_side asks of a side-by-side cut): it is the other body's fit, not
@@ -723,7 +724,7 @@ std::optional<WidthStep> width_step(const Frame& f, const ScanCluster& cluster,
   const size_t m = widths.size();
   if (m < 2 * kStepMinSlices) return std::nullopt;
   const OutlineBreak cut =
-      best_break(widths, *low, *high, top_face, slice, params.level_min_height_m);
+      best_break(widths, *low, *high, top_face, slice, params.segment.level_min_height_m);
   const double least_step = std::max(kStepMinFootprints * pixel, kStepMinWidth_m);
   if (cut.below == 0 || std::abs(cut.step) < least_step) return std::nullopt;
   // The step holds over most of each part: their median widths differ by as much, the

@@ -17,7 +17,8 @@
 // by the same criterion when the upper stands over the lower's footprint. An upright
 // cluster the one primitive explains well, whose outline across the line of sight steps
 // in width at one height, is cut level there too (a far stack that one cone explains
-// whole), the outline's evidence added to the criterion's. A cluster its
+// whole), the outline's evidence added to the criterion's; beyond the segmenter's crease
+// test's reach one it explains poorly is tried so too. A cluster its
 // one primitive explains nearly well enough is
 // tried only when it stands on two feet (stands_on_two_feet): the refits cost as much
 // whether the cut is kept or not. Private to the scanner.
@@ -77,15 +78,15 @@ struct TouchingSplitParams {
   bool misfit_cut = true;
   // ... and when that misfit lies above or below the rest, not beside it, the level cut
   // (one body standing on the other; ScanParams::touching_level_cut), each part at least
-  // level_min_height_m tall (the segmenter's, SegmenterParams::level_min_height_m).
+  // the segmenter's level_min_height_m tall (segment, below).
   bool level_cut = true;
-  double level_min_height_m = 0.03;
   // An upright cluster its one primitive explains well (max_whole_coverage or more)
   // whose outline steps in width at one height is cut level there (a far stack one cone
   // explains whole; ScanParams::touching_width_step), kept as the level cut is; one it
   // explains worse too where the segmenter's crease test is blind (crease_test_blind).
   bool width_step_cut = true;
-  // The segmenter's (ScanParams::segment), for where its crease test is blind.
+  // The segmenter's (ScanParams::segment): its level cut's least part height, and where
+  // its crease test is blind.
   SegmenterParams segment;
 };
 

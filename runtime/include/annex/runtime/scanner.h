@@ -502,9 +502,10 @@ struct ScanParams {
   // beside it, the cut is level there: one body standing on the other, too far for the
   // segmenter's crease test (segment.level_min_height_m tall each; touching_split.h).
   bool touching_level_cut = true;
-  // An upright cluster its one primitive explains well (touching_max_coverage or more)
-  // whose outline steps in width at one height is cut level there, kept as the level cut
-  // is (a far stack that one cone explains whole; touching_split.h).
+  // An upright cluster its one primitive explains well (touching_max_coverage or more;
+  // any, where the segmenter's crease test is blind) whose outline steps in width at one
+  // height is cut level there, kept as the level cut is (a far stack that one cone
+  // explains whole; touching_split.h).
   bool touching_width_step = true;
   // Each of the two parts shows at least the pixels of a body this wide at its depth
   // (the disc it spans in the image): the smallest object reported, whose pixel count
