@@ -2259,19 +2259,21 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   cands.push_back(box);
   // A cylinder lying on the support along either side of the box's footprint: along its
   // length (a bottle, a rolling pin) or across it (a tin on its side, shorter than wide).
+  struct {
+    double value = -1;  // independent_points(s), counted once when first needed
+  } independent;
   bool lying_shown = false;  // a lying cylinder whose normals show it (nearer_than_box_faces)
-  std::vector<double> box_misfits;  // the box's normal_misfits, when first asked
-  double lying_independent = -1;    // independent_points, when first asked
+  std::vector<double> box_misfits;  // the box's normal_misfits, asked with `independent`
   if (box.valid)
     for (const double along : {box.theta, box.theta + kPi / 2}) {
       if (!round_across(s, along)) continue;
       Candidate lying =
           fit_lying_cylinder_along(s, along, box.ca, box.cb, std::max(0.005, s.top / 2), params);
-      if (lying.valid && lying_independent < 0) {
+      if (lying.valid && independent.value < 0) {
         box_misfits = normal_misfits(box, s);
-        lying_independent = independent_points(s, params.focal_px);
+        independent.value = independent_points(s, params.focal_px);
       }
-      lying.valid = lying.valid && nearer_than_box_faces(lying, box_misfits, s, lying_independent);
+      lying.valid = lying.valid && nearer_than_box_faces(lying, box_misfits, s, independent.value);
       lying_shown = lying_shown || lying.valid;
       cands.push_back(lying);
     }
@@ -2344,9 +2346,6 @@ ObjectShape recognize_object_shape(const std::vector<Vec3>& points,
   double tol2 = 0;
   for (double t : s.tol) tol2 += t * t;
   tol2 /= static_cast<double>(s.tol.size());
-  struct {
-    double value = -1;  // independent_points(s), counted once when first needed
-  } independent;
   // Only a candidate explaining min_coverage of the points can be the shape, when one
   // does: a tighter fit of fewer points can rank above it, and the object would then be
   // `unknown` (the real milk frame's detergent bottle: a cylinder of 52 % ranked above
